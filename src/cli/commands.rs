@@ -1,0 +1,119 @@
+//! The commands: load, compute, write, print.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, Context};
+
+use super::{table, Cli, Command, Failure};
+use crate::analysis::{self, GeometryReport, LinearReport};
+use crate::figures;
+use crate::model::Wheelset;
+use crate::output;
+use crate::study::{self, Plan};
+
+fn user<E: Into<anyhow::Error>>(e: E) -> Failure {
+    Failure::User(e.into())
+}
+
+fn compute<E: Into<anyhow::Error>>(e: E) -> Failure {
+    Failure::Compute(e.into())
+}
+
+/// Runs the parsed command.
+pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
+    match &cli.command {
+        Command::Run { study } => run(&cli.out, study.as_deref()),
+        Command::Linear { study, json } => {
+            let plan = load(study)?;
+            let model = build(&plan)?;
+            let report = linear(&plan, &model, &cli.out)?;
+            if *json {
+                let text =
+                    serde_json::to_string_pretty(&output::linear_json(&report)).map_err(compute)?;
+                println!("{text}");
+            } else {
+                print!("{}", table::linear(&plan, &report));
+            }
+            Ok(())
+        }
+        Command::Geometry { study } => {
+            let plan = load(study)?;
+            let model = build(&plan)?;
+            let g = geometry(&plan, &model, &cli.out)?;
+            print!("{}", table::geometry(&g));
+            Ok(())
+        }
+        Command::Check { study } => {
+            let plan = load(study)?;
+            print!("{}", table::plan(&plan));
+            Ok(())
+        }
+    }
+}
+
+fn load(path: &Path) -> Result<Plan, Failure> {
+    study::load(path).map_err(user)
+}
+
+fn build(plan: &Plan) -> Result<Wheelset, Failure> {
+    plan.model()
+        .with_context(|| format!("building the contact geometry of study '{}'", plan.name))
+        .map_err(compute)
+}
+
+fn out_dir(root: &Path, plan: &Plan) -> Result<PathBuf, Failure> {
+    output::study_dir(root, &plan.name)
+        .with_context(|| format!("creating {}", root.join(&plan.name).display()))
+        .map_err(compute)
+}
+
+fn write(dir: &Path, file: &str, bytes: &[u8]) -> Result<(), Failure> {
+    let path = output::write(dir, file, bytes)
+        .with_context(|| format!("writing {}", dir.join(file).display()))
+        .map_err(compute)?;
+    eprintln!("wrote {}", path.display());
+    Ok(())
+}
+
+fn linear(plan: &Plan, model: &Wheelset, root: &Path) -> Result<LinearReport, Failure> {
+    let report = analysis::linear(plan, model)
+        .context("linear stability analysis")
+        .map_err(compute)?;
+    let dir = out_dir(root, plan)?;
+    let json = serde_json::to_string_pretty(&output::linear_json(&report)).map_err(compute)?;
+    write(&dir, "linear.json", json.as_bytes())?;
+    write(
+        &dir,
+        "spectrum.csv",
+        output::spectrum_csv(&report).as_bytes(),
+    )?;
+    for (file, svg) in figures::linear(&report).map_err(|e| compute(anyhow!(e)))? {
+        write(&dir, &file, svg.as_bytes())?;
+    }
+    Ok(report)
+}
+
+fn geometry(plan: &Plan, model: &Wheelset, root: &Path) -> Result<GeometryReport, Failure> {
+    let g = analysis::geometry(plan, model);
+    let dir = out_dir(root, plan)?;
+    write(&dir, "geometry.csv", output::geometry_csv(&g).as_bytes())?;
+    let svg = figures::geometry(&g).map_err(|e| compute(anyhow!(e)))?;
+    write(&dir, "geometry.svg", svg.as_bytes())?;
+    Ok(g)
+}
+
+fn run(root: &Path, study: Option<&Path>) -> Result<(), Failure> {
+    let plan = match study {
+        Some(p) => load(p)?,
+        None => {
+            eprintln!("no study given: running the embedded seed study (studies/seed.toml)");
+            study::parse(study::DEFAULT_STUDY, "embedded seed study").map_err(compute)?
+        }
+    };
+    let model = build(&plan)?;
+    let g = geometry(&plan, &model, root)?;
+    print!("{}", table::geometry(&g));
+    let report = linear(&plan, &model, root)?;
+    print!("{}", table::linear(&plan, &report));
+    Ok(())
+}

@@ -1,0 +1,87 @@
+//! The command line: clap definitions, and the commands as functions returning a [`Failure`].
+//!
+//! Exit codes: 0 success, 2 user error (bad file, bad argument), 1 computation failure.
+
+mod commands;
+mod table;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// critspeed: the speed at which a railway wheelset starts to hunt.
+#[derive(Debug, Parser)]
+#[command(version, about, long_about = None)]
+pub struct Cli {
+    /// Folder for results; each study writes to <OUT>/<study name>/.
+    #[arg(long, global = true, default_value = "out")]
+    pub out: PathBuf,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Everything the study asks for (geometry and linear stability). Without STUDY, runs
+    /// the embedded seed study and writes out/seed/.
+    Run {
+        /// Study file (TOML); omit for the embedded seed study.
+        study: Option<PathBuf>,
+    },
+    /// Linear (Kalker) critical speeds and the creep law's Hopf speeds, with spectra.
+    Linear {
+        /// Study file (TOML).
+        study: PathBuf,
+        /// Print one JSON object on stdout instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// The contact geometry table (rolling radii, contact angles, roll, Hertz patch, creep
+    /// coefficients against lateral displacement) as CSV and SVG.
+    Geometry {
+        /// Study file (TOML).
+        study: PathBuf,
+    },
+    /// Validate a study and print the resolved plan in SI units.
+    Check {
+        /// Study file (TOML).
+        study: PathBuf,
+    },
+}
+
+/// Why a command failed, and so which exit code it gets.
+#[derive(Debug)]
+pub enum Failure {
+    /// bad input: exit code 2
+    User(anyhow::Error),
+    /// a computation or output failure: exit code 1
+    Compute(anyhow::Error),
+}
+
+/// Parses the arguments, runs the command and maps the outcome to an exit code.
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // clap prints help/version to stdout (exit 0) and usage errors to stderr (exit 2)
+            let _ = e.print();
+            return if e.use_stderr() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::SUCCESS
+            };
+        }
+    };
+    match commands::dispatch(&cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::User(e)) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Compute(e)) => {
+            eprintln!("computation failed: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}

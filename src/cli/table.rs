@@ -1,0 +1,220 @@
+//! Human-readable tables for the terminal. Every number carries its unit.
+
+use std::fmt::Write as _;
+
+use crate::analysis::{GeometryReport, LinearReport};
+use crate::contact::creep::CreepLaw;
+use crate::contact::geometry::Geometry;
+use crate::contact::table::CreepSource;
+use crate::stability::CriticalSpeeds;
+use crate::study::Plan;
+
+fn crossings(s: &mut String, label: &str, c: &CriticalSpeeds) {
+    if !c.stable_at_start {
+        let _ = writeln!(
+            s,
+            "  {label:<22} already unstable at {:.3} m/s (the start of the range)",
+            c.speed_range.0
+        );
+    }
+    if c.crossings.is_empty() {
+        let _ = writeln!(
+            s,
+            "  {label:<22} no crossing in [{}, {}] m/s",
+            c.speed_range.0, c.speed_range.1
+        );
+    }
+    for x in &c.crossings {
+        let _ = writeln!(
+            s,
+            "  {label:<22} {:<9} {:>12.6} {:>9.2} {:>10.4} {:>10.3}",
+            x.direction.name(),
+            x.speed_m_s,
+            x.speed_m_s * 3.6,
+            x.frequency_hz,
+            x.wavelength_m
+        );
+    }
+    for v in &c.divergence_speeds_m_s {
+        let _ = writeln!(
+            s,
+            "  {label:<22} a real eigenvalue crosses zero (divergence) at {v:.6} m/s"
+        );
+    }
+}
+
+/// The linear results.
+pub fn linear(plan: &Plan, r: &LinearReport) -> String {
+    let mut s = String::new();
+    let (lo, hi) = r.kalker.speed_range;
+    let _ = writeln!(
+        s,
+        "\nstudy '{}': linear stability of the centred motion, V in [{lo}, {hi}] m/s",
+        plan.name
+    );
+    let _ = writeln!(
+        s,
+        "  effective conicity at the centre {:.5}, kinematic (Klingel) wavelength {:.3} m",
+        r.centre_conicity, r.klingel_wavelength_m
+    );
+    let _ = writeln!(
+        s,
+        "  {:<22} {:<9} {:>12} {:>9} {:>10} {:>10}",
+        "model", "crossing", "speed (m/s)", "(km/h)", "freq (Hz)", "wave (m)"
+    );
+    crossings(&mut s, "Kalker: linear V_L", &r.kalker);
+    if let Some(c) = &r.creep_law {
+        let label = format!("{}: Hopf V_H", c.law.name());
+        crossings(&mut s, &label, c);
+    }
+    s
+}
+
+/// A summary of the geometry table.
+pub fn geometry(g: &GeometryReport) -> String {
+    let mut s = String::new();
+    let n = g.rows.len();
+    let (first, last) = (g.rows.first(), g.rows.last());
+    if let (Some(a), Some(b)) = (first, last) {
+        let _ = writeln!(
+            s,
+            "\nstudy '{}': contact geometry tabulated at {n} points, y in [{:.4}, {:.4}] mm",
+            g.study,
+            a.y * 1e3,
+            b.y * 1e3
+        );
+    }
+    let _ = writeln!(
+        s,
+        "  effective conicity at the centre (dr_R/dy) {:.6}",
+        g.centre_conicity
+    );
+    if let Some(c) = g.rows.get(n / 2) {
+        let _ = writeln!(
+            s,
+            "  centred: r_R = {:.6} mm, delta_R = {:.6} rad",
+            c.point.radius * 1e3,
+            c.point.angle
+        );
+        if let Some((a, b)) = c.semi_axes {
+            let _ = writeln!(
+                s,
+                "  centred Hertz patch: a = {:.4} mm (rolling), b = {:.4} mm (lateral)",
+                a * 1e3,
+                b * 1e3
+            );
+        }
+        let _ = writeln!(
+            s,
+            "  centred creep coefficients: f11 = {:.4e} N, f22 = {:.4e} N, f23 = {:.4e} N m, f33 = {:.4e} N m^2",
+            c.creep.f11, c.creep.f22, c.creep.f23, c.creep.f33
+        );
+    }
+    s
+}
+
+/// The resolved plan in SI.
+pub fn plan(p: &Plan) -> String {
+    let mut s = String::new();
+    let w = &p.wheelset;
+    let u = &p.suspension;
+    let c = &p.contact;
+    let _ = writeln!(s, "study '{}' is valid. Resolved plan (SI units):", p.name);
+    if !p.description.is_empty() {
+        let _ = writeln!(s, "  {}", p.description);
+    }
+    let mut line = |k: &str, v: String| {
+        let _ = writeln!(s, "  {k:<36} {v}");
+    };
+    line("wheelset.mass", format!("{} kg", w.mass));
+    line("wheelset.yaw_inertia", format!("{} kg m^2", w.yaw_inertia));
+    line("wheelset.axle_load", format!("{} N", w.axle_load));
+    line(
+        "wheelset.half_contact_distance",
+        format!("{} m", w.half_contact_distance),
+    );
+    line("wheelset.rolling_radius", format!("{} m", w.rolling_radius));
+    line(
+        "suspension.lateral_stiffness",
+        format!("{} N/m", u.lateral_stiffness),
+    );
+    line(
+        "suspension.longitudinal_stiffness",
+        format!("{} N/m", u.longitudinal_stiffness),
+    );
+    line(
+        "suspension.lateral_damping",
+        format!("{} N s/m", u.lateral_damping),
+    );
+    line(
+        "suspension.longitudinal_damping",
+        format!("{} N s/m", u.longitudinal_damping),
+    );
+    line(
+        "suspension.half_spring_spacing",
+        format!("{} m", u.half_spring_spacing),
+    );
+    match c.geometry {
+        Geometry::Cone { conicity } => {
+            line("contact.geometry", "cone".into());
+            line("contact.conicity", format!("{conicity}"));
+        }
+        Geometry::ConeOnArc {
+            conicity,
+            rail_head_radius,
+            crown_offset,
+        } => {
+            line("contact.geometry", "cone-on-arc".into());
+            line("contact.conicity", format!("{conicity}"));
+            line("contact.rail_head_radius", format!("{rail_head_radius} m"));
+            line("contact.crown_offset", format!("{crown_offset} m"));
+        }
+    }
+    match c.creep_law {
+        CreepLaw::Kalker => line("contact.creep_law", "kalker".into()),
+        CreepLaw::Shen { friction } => {
+            line("contact.creep_law", "shen".into());
+            line("contact.friction", format!("{friction}"));
+        }
+    }
+    line("contact.spin", format!("{}", c.spin));
+    line(
+        "contact.young_modulus",
+        format!("{} Pa", c.elastic.young_modulus),
+    );
+    line(
+        "contact.poisson_ratio",
+        format!("{}", c.elastic.poisson_ratio),
+    );
+    line(
+        "contact.shear_modulus",
+        format!("{} Pa", c.elastic.shear_modulus),
+    );
+    match c.creep {
+        CreepSource::Given(k) => line(
+            "contact.creep_coefficients",
+            format!(
+                "f11 = {} N, f22 = {} N, f23 = {} N m, f33 = {} N m^2 (given)",
+                k.f11, k.f22, k.f23, k.f33
+            ),
+        ),
+        CreepSource::Hertz => line(
+            "contact.creep_coefficients",
+            "from the Hertz patch and Kalker's table at each contact state".into(),
+        ),
+    }
+    line("contact.lateral_range", format!("{} m", c.lateral_range));
+    line("contact.table_points", format!("{}", c.table_points));
+    match &p.flange {
+        Some(f) => {
+            line("flange.clearance", format!("{} m", f.clearance));
+            line("flange.stiffness", format!("{} N/m", f.stiffness));
+        }
+        None => line("flange", "none".into()),
+    }
+    let (lo, hi) = p.linear.speed_range;
+    line("linear.speed_range", format!("[{lo}, {hi}] m/s"));
+    line("linear.grid_points", format!("{}", p.linear.grid_points));
+    line("linear.spectrum_points", format!("{}", p.spectrum_points));
+    s
+}

@@ -1,0 +1,7 @@
+//! Wheel–rail contact: geometry, Hertz patch, creep coefficients and creep laws (MODEL §3–6).
+
+pub mod creep;
+pub mod geometry;
+pub mod hertz;
+pub mod kalker;
+pub mod table;

@@ -1,0 +1,301 @@
+//! The contact state of the right wheel tabulated against `y` and interpolated C¹.
+//!
+//! Every geometry (closed form or rigid-contact solve) is sampled once on a uniform grid
+//! `y_k = −Y + k·h` with its value **and exact slope** at each node; between nodes a cubic
+//! Hermite interpolant is used, so values and first derivatives are continuous (MODEL §3
+//! asks for at least C¹) and the slope at a node is the exact one. Cubic Hermite reproduces
+//! polynomials up to degree three, so the closed-form cone is reproduced to rounding. Beyond
+//! the tabulated range the state is extended linearly with the end slope (still C¹); the
+//! range is chosen by the study so that the motion stays inside it.
+//!
+//! The same table carries the Hertz semi-axes and, when the study does not give them, the
+//! creep coefficients at each contact state (MODEL §4–5: the normal force and the curvatures
+//! change with `y`).
+
+use crate::contact::geometry::{ContactPoint, Geometry, GeometryError, Nominal};
+use crate::contact::hertz::{hertz_patch, HertzError};
+use crate::contact::kalker::{creep_coefficients, CreepCoefficients, KalkerError};
+use crate::system::scalar::{Dual, Scalar};
+
+/// Column indices of the table.
+const RADIUS: usize = 0;
+const ANGLE: usize = 1;
+const ROLL: usize = 2;
+const SEMI_A: usize = 3;
+const SEMI_B: usize = 4;
+const F11: usize = 5;
+const COLUMNS: usize = 9;
+
+/// Elastic constants of wheel and rail steel (identical bodies).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Elastic {
+    /// Young's modulus E (Pa)
+    pub young_modulus: f64,
+    /// Poisson's ratio ν (–)
+    pub poisson_ratio: f64,
+    /// shear modulus G (Pa)
+    pub shear_modulus: f64,
+}
+
+/// Where the creep coefficients come from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CreepSource {
+    /// Given by the study, constant (N, N, N m, N m²).
+    Given(CreepCoefficients<f64>),
+    /// From the Hertz patch and Kalker's table at each contact state.
+    Hertz,
+}
+
+/// What the table needs besides the geometry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TableSpec {
+    /// nominal dimensions
+    pub nominal: Nominal,
+    /// axle load W (N)
+    pub axle_load: f64,
+    /// elastic constants (for the Hertz patch)
+    pub elastic: Elastic,
+    /// transverse radius of the rail head for the Hertz patch (m); `None`: no patch
+    pub rail_head_radius: Option<f64>,
+    /// creep coefficient source
+    pub creep: CreepSource,
+    /// half-width of the tabulated range (m)
+    pub half_width: f64,
+    /// number of nodes (odd, so that y = 0 is a node)
+    pub nodes: usize,
+}
+
+/// A failure while building the table.
+#[derive(Debug, thiserror::Error)]
+pub enum TableError {
+    #[error(transparent)]
+    Geometry(#[from] GeometryError),
+    #[error("Hertz patch at y = {y_m:.6e} m: {source}")]
+    Hertz { y_m: f64, source: HertzError },
+    #[error("creep coefficients at y = {y_m:.6e} m: {source}")]
+    Kalker { y_m: f64, source: KalkerError },
+    #[error("creep coefficients are needed: give [contact.creep_coefficients] or a rail head radius for the Hertz patch")]
+    NoCreepCoefficients,
+}
+
+/// One node's full contact state, for output.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Row {
+    /// lateral displacement (m)
+    pub y: f64,
+    /// right-wheel contact state
+    pub point: ContactPoint<f64>,
+    /// Hertz semi-axes a (rolling), b (lateral) of the right wheel (m), if computed
+    pub semi_axes: Option<(f64, f64)>,
+    /// creep coefficients of the right wheel
+    pub creep: CreepCoefficients<f64>,
+}
+
+/// The tabulated right-wheel contact state.
+#[derive(Clone, Debug)]
+pub struct ContactTable {
+    y0: f64,
+    h: f64,
+    /// values and slopes, `[node][column]`
+    value: Vec<[f64; COLUMNS]>,
+    slope: Vec<[f64; COLUMNS]>,
+    has_patch: bool,
+}
+
+/// The interpolated contact state of one wheel.
+#[derive(Clone, Copy, Debug)]
+pub struct WheelState<T> {
+    /// rolling radius (m)
+    pub radius: T,
+    /// contact angle (rad), positive pushing the wheel towards the track centre
+    pub angle: T,
+    /// creep coefficients
+    pub creep: CreepCoefficients<T>,
+}
+
+impl ContactTable {
+    /// Samples `geometry` on the grid of `spec`.
+    pub fn build(geometry: &Geometry, spec: &TableSpec) -> Result<Self, TableError> {
+        let n = spec.nodes.max(5) | 1;
+        let half = (n - 1) / 2;
+        let h = spec.half_width / half as f64;
+        let mut value = vec![[0.0; COLUMNS]; n];
+        let mut slope = vec![[0.0; COLUMNS]; n];
+        let mut has_patch = false;
+        // March outwards from the centre in both directions, each solve seeded by the last.
+        for dir in [1.0, -1.0] {
+            let mut guess = None;
+            for k in 0..=half {
+                let y = dir * k as f64 * h;
+                let (point, u) = geometry.solve(spec.nominal, y, guess)?;
+                guess = Some(u);
+                let cols = node_columns(point, geometry, spec, y)?;
+                has_patch = cols.1;
+                let idx = (half as isize + dir as isize * k as isize) as usize;
+                for (c, d) in cols.0.iter().enumerate() {
+                    value[idx][c] = d.re;
+                    slope[idx][c] = d.eps[0];
+                }
+            }
+        }
+        Ok(Self {
+            y0: -(half as f64) * h,
+            h,
+            value,
+            slope,
+            has_patch,
+        })
+    }
+
+    /// The tabulated half-width (m).
+    pub fn half_width(&self) -> f64 {
+        -self.y0
+    }
+
+    /// Whether the Hertz semi-axes were computed.
+    pub fn has_patch(&self) -> bool {
+        self.has_patch
+    }
+
+    /// The nodes, for output.
+    pub fn rows(&self) -> Vec<Row> {
+        (0..self.value.len())
+            .map(|k| {
+                let v = &self.value[k];
+                Row {
+                    y: self.y0 + k as f64 * self.h,
+                    point: ContactPoint {
+                        radius: v[RADIUS],
+                        angle: v[ANGLE],
+                        roll: v[ROLL],
+                        wheel_offset: f64::NAN,
+                    },
+                    semi_axes: self.has_patch.then_some((v[SEMI_A], v[SEMI_B])),
+                    creep: CreepCoefficients {
+                        f11: v[F11],
+                        f22: v[F11 + 1],
+                        f23: v[F11 + 2],
+                        f33: v[F11 + 3],
+                    },
+                }
+            })
+            .collect()
+    }
+
+    /// Interpolates column `c` at `y` (value and slope).
+    #[inline]
+    fn interp(&self, c: usize, y: f64) -> (f64, f64) {
+        let n = self.value.len();
+        let s = (y - self.y0) / self.h;
+        if !(s >= 0.0) {
+            // below the table (or NaN): linear extension of the first node
+            let d = y - self.y0;
+            return (self.value[0][c] + self.slope[0][c] * d, self.slope[0][c]);
+        }
+        if s >= (n - 1) as f64 {
+            let d = y - (self.y0 + (n - 1) as f64 * self.h);
+            return (
+                self.value[n - 1][c] + self.slope[n - 1][c] * d,
+                self.slope[n - 1][c],
+            );
+        }
+        let k = (s as usize).min(n - 2);
+        let t = s - k as f64;
+        let (p0, p1) = (self.value[k][c], self.value[k + 1][c]);
+        let (m0, m1) = (self.slope[k][c] * self.h, self.slope[k + 1][c] * self.h);
+        // cubic Hermite basis
+        let t2 = t * t;
+        let t3 = t2 * t;
+        let v = (2.0 * t3 - 3.0 * t2 + 1.0) * p0
+            + (t3 - 2.0 * t2 + t) * m0
+            + (-2.0 * t3 + 3.0 * t2) * p1
+            + (t3 - t2) * m1;
+        let dv = (6.0 * t2 - 6.0 * t) * p0
+            + (3.0 * t2 - 4.0 * t + 1.0) * m0
+            + (-6.0 * t2 + 6.0 * t) * p1
+            + (3.0 * t2 - 2.0 * t) * m1;
+        (v, dv / self.h)
+    }
+
+    #[inline]
+    fn column<T: Scalar>(&self, c: usize, y: T) -> T {
+        let (v, d) = self.interp(c, y.re());
+        y.lift(v, d)
+    }
+
+    /// The right wheel's state at displacement `y`.
+    #[inline]
+    pub fn right<T: Scalar>(&self, y: T) -> WheelState<T> {
+        WheelState {
+            radius: self.column(RADIUS, y),
+            angle: self.column(ANGLE, y),
+            creep: CreepCoefficients {
+                f11: self.column(F11, y),
+                f22: self.column(F11 + 1, y),
+                f23: self.column(F11 + 2, y),
+                f33: self.column(F11 + 3, y),
+            },
+        }
+    }
+
+    /// The left wheel's state at displacement `y`, by the track symmetry.
+    #[inline]
+    pub fn left<T: Scalar>(&self, y: T) -> WheelState<T> {
+        self.right(-y)
+    }
+
+    /// Roll angle φ(y) (rad).
+    pub fn roll<T: Scalar>(&self, y: T) -> T {
+        self.column(ROLL, y)
+    }
+}
+
+/// The table columns at one node, as one-direction duals (value and d/dy).
+fn node_columns(
+    p: ContactPoint<Dual<1>>,
+    geometry: &Geometry,
+    spec: &TableSpec,
+    y: f64,
+) -> Result<([Dual<1>; COLUMNS], bool), TableError> {
+    let zero = Dual::cst(0.0);
+    let patch = match spec
+        .rail_head_radius
+        .or_else(|| geometry.rail_transverse_curvature().map(|k| 1.0 / k))
+    {
+        Some(rail_radius) => {
+            // MODEL §4: N = (W/2)/cos δ, A = 1/r (rolling), B = 1/R_rail (the cone is straight
+            // transversally).
+            let normal = p.angle.cos().recip() * (spec.axle_load / 2.0);
+            let patch = hertz_patch(
+                normal,
+                p.radius.recip(),
+                Dual::cst(1.0 / rail_radius),
+                spec.elastic.young_modulus,
+                spec.elastic.poisson_ratio,
+            )
+            .map_err(|source| TableError::Hertz { y_m: y, source })?;
+            Some((patch.a, patch.b))
+        }
+        None => None,
+    };
+    let creep = match (spec.creep, patch) {
+        (CreepSource::Given(c), _) => CreepCoefficients {
+            f11: Dual::cst(c.f11),
+            f22: Dual::cst(c.f22),
+            f23: Dual::cst(c.f23),
+            f33: Dual::cst(c.f33),
+        },
+        (CreepSource::Hertz, Some((a, b))) => {
+            creep_coefficients(a, b, spec.elastic.shear_modulus, spec.elastic.poisson_ratio)
+                .map_err(|source| TableError::Kalker { y_m: y, source })?
+        }
+        (CreepSource::Hertz, None) => return Err(TableError::NoCreepCoefficients),
+    };
+    let (a, b) = patch.unwrap_or((zero, zero));
+    Ok((
+        [
+            p.radius, p.angle, p.roll, a, b, creep.f11, creep.f22, creep.f23, creep.f33,
+        ],
+        patch.is_some(),
+    ))
+}

@@ -1,0 +1,39 @@
+//! # critspeed
+//!
+//! At what speed does a railway wheelset start to hunt, and how violently?
+//!
+//! The workflow, in the order the modules are used:
+//!
+//! 1. [`study`]: read a TOML study file (any accepted unit), validate it into an SI [`study::Plan`].
+//! 2. [`contact`]: the contact geometry (closed-form cone, or a cone on a circular rail head by
+//!    the rigid two-point contact method), Hertz patch, Kalker creep coefficients, creep laws.
+//! 3. [`model`]: the suspended wheelset's equations of motion $\dot x = f(x; V)$, one
+//!    right-hand side for every analysis, with the exact Jacobian by dual numbers.
+//! 4. [`stability`]: the spectrum of the centred motion at any speed and every crossing of
+//!    the imaginary axis (the linear, Kalker, critical speed and the Hopf speed of the study's
+//!    creep law).
+//! 5. [`output`] and [`plot`]: results as JSON/CSV and SVG under `out/<study>/`.
+//!
+//! ```
+//! use critspeed::study;
+//! use critspeed::stability::{critical_speeds, LinearSystem};
+//! use critspeed::contact::creep::CreepLaw;
+//!
+//! let plan = study::parse(study::DEFAULT_STUDY, "seed").unwrap();
+//! let model = plan.model().unwrap().with_law(CreepLaw::Kalker);
+//! let sys = LinearSystem::at_centre(&model);
+//! let found = critical_speeds(&sys, CreepLaw::Kalker, &plan.linear).unwrap();
+//! // The seed's dampers keep its wheelset stable far beyond railway speeds (MODEL §10).
+//! assert!(found.critical().map_or(true, |c| c.speed_m_s > 150.0));
+//! ```
+
+pub mod analysis;
+pub mod cli;
+pub mod contact;
+pub mod figures;
+pub mod model;
+pub mod output;
+pub mod plot;
+pub mod stability;
+pub mod study;
+pub mod system;

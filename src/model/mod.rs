@@ -1,0 +1,180 @@
+//! The suspended wheelset: parameters and equations of motion (MODEL §1–8), nothing else.
+//!
+//! State $x = (y, ψ, \dot y, \dot ψ)$ (m, rad, m/s, rad/s), forward speed $V > 0$ (m/s).
+//! The one right-hand side [`Wheelset::rhs`] serves every analysis; it is generic over
+//! [`Scalar`] so that the exact Jacobian comes from the same code ([`Wheelset::jacobian`]).
+//!
+//! $$m\ddot y = F_{y,R} + F_{y,L} + F_N + F_f + F_s$$
+//! $$I_z\ddot ψ = l_0 (F_{x,L} − F_{x,R}) + M_{z,R} + M_{z,L} + M_s$$
+
+use nalgebra::{Matrix4, Vector4};
+
+use crate::contact::creep::{self, CreepForce, CreepLaw, Creepage};
+use crate::contact::table::{ContactTable, WheelState};
+use crate::system::scalar::{Dual, Scalar};
+
+/// Rigid wheelset data.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WheelsetParams {
+    /// wheelset mass m (kg)
+    pub mass: f64,
+    /// yaw moment of inertia I_z (kg m²)
+    pub yaw_inertia: f64,
+    /// axle load W, the vertical load on both contacts together (N)
+    pub axle_load: f64,
+    /// half the lateral distance between the nominal contact points l0 (m)
+    pub half_contact_distance: f64,
+    /// nominal rolling radius r0 (m)
+    pub rolling_radius: f64,
+}
+
+/// Primary suspension, values per side (MODEL §7).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Suspension {
+    /// lateral stiffness K_py (N/m)
+    pub lateral_stiffness: f64,
+    /// longitudinal stiffness K_px (N/m)
+    pub longitudinal_stiffness: f64,
+    /// lateral damping C_py (N s/m)
+    pub lateral_damping: f64,
+    /// longitudinal damping C_px (N s/m)
+    pub longitudinal_damping: f64,
+    /// half the lateral spacing of the longitudinal springs d (m)
+    pub half_spring_spacing: f64,
+}
+
+/// Flange contact: a stiff spring beyond a dead band (MODEL §6).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Flange {
+    /// flange clearance δ_f (m)
+    pub clearance: f64,
+    /// flange contact stiffness k_f (N/m)
+    pub stiffness: f64,
+}
+
+/// The wheelset model: parameters, contact table and creep law.
+#[derive(Clone, Debug)]
+pub struct Wheelset {
+    /// rigid wheelset data
+    pub params: WheelsetParams,
+    /// primary suspension
+    pub suspension: Suspension,
+    /// the study's creep law
+    pub creep_law: CreepLaw,
+    /// whether spin creepage acts (MODEL §5; `false` drops f23, f33)
+    pub spin: bool,
+    /// flange contact, if modelled
+    pub flange: Option<Flange>,
+    /// right-wheel contact state against y
+    pub table: ContactTable,
+}
+
+/// Flange force $F_f$ (N) at displacement `y` (m); zero inside the dead band.
+#[inline]
+pub fn flange_force<T: Scalar>(flange: Option<&Flange>, y: T) -> T {
+    match flange {
+        Some(f) if y.re() > f.clearance => -((y - f.clearance) * f.stiffness),
+        Some(f) if y.re() < -f.clearance => -((y + f.clearance) * f.stiffness),
+        _ => T::cst(0.0),
+    }
+}
+
+impl Wheelset {
+    /// The same wheelset with another creep law (the linear analysis needs Kalker's too).
+    pub fn with_law(&self, law: CreepLaw) -> Self {
+        Self {
+            creep_law: law,
+            ..self.clone()
+        }
+    }
+
+    /// Creep force on one wheel; `side` = +1 right, −1 left.
+    #[inline]
+    fn wheel_force<T: Scalar>(
+        &self,
+        w: &WheelState<T>,
+        side: f64,
+        x: &[T; 4],
+        v: f64,
+    ) -> CreepForce<T> {
+        let p = &self.params;
+        let [_, psi, ydot, psidot] = *x;
+        let inv_v = 1.0 / v;
+        let s = Creepage {
+            long: -(w.radius / p.rolling_radius) + 1.0
+                - psidot * (side * p.half_contact_distance * inv_v),
+            lat: ydot * inv_v - psi,
+            spin: if self.spin {
+                psidot * inv_v - w.angle.sin() * (side / p.rolling_radius)
+            } else {
+                T::cst(0.0)
+            },
+        };
+        let mut coeffs = w.creep;
+        if !self.spin {
+            coeffs.f23 = T::cst(0.0);
+            coeffs.f33 = T::cst(0.0);
+        }
+        let f = creep::kalker(&coeffs, &s);
+        match self.creep_law {
+            CreepLaw::Kalker => f,
+            CreepLaw::Shen { friction } => {
+                // MODEL §4: N_i = (W/2)/cos δ_i
+                let normal = w.angle.cos().recip() * (p.axle_load / 2.0);
+                creep::shen(f, normal * friction)
+            }
+        }
+    }
+
+    /// The right-hand side $f(x; V)$ of $\dot x = f(x; V)$.
+    #[inline]
+    pub fn rhs<T: Scalar>(&self, x: &[T; 4], v: f64) -> [T; 4] {
+        let p = &self.params;
+        let s = &self.suspension;
+        let [y, psi, ydot, psidot] = *x;
+        let right = self.table.right(y);
+        let left = self.table.left(y);
+        let fr = self.wheel_force(&right, 1.0, x, v);
+        let fl = self.wheel_force(&left, -1.0, x, v);
+        // gravitational stiffness, MODEL §4
+        let f_n = -((right.angle.tan() - left.angle.tan()) * (p.axle_load / 2.0));
+        let f_f = flange_force(self.flange.as_ref(), y);
+        let f_s = -(y * (2.0 * s.lateral_stiffness)) - ydot * (2.0 * s.lateral_damping);
+        let d2 = s.half_spring_spacing * s.half_spring_spacing;
+        let m_s = -(psi * (2.0 * s.longitudinal_stiffness * d2))
+            - psidot * (2.0 * s.longitudinal_damping * d2);
+        let yddot = (fr.fy + fl.fy + f_n + f_f + f_s) / p.mass;
+        let psiddot =
+            ((fl.fx - fr.fx) * p.half_contact_distance + fr.mz + fl.mz + m_s) / p.yaw_inertia;
+        [ydot, psidot, yddot, psiddot]
+    }
+
+    /// $f(x; V)$ on plain vectors.
+    pub fn rhs_vec(&self, x: &Vector4<f64>, v: f64) -> Vector4<f64> {
+        let r = self.rhs(&[x[0], x[1], x[2], x[3]], v);
+        Vector4::new(r[0], r[1], r[2], r[3])
+    }
+
+    /// The exact Jacobian $∂f/∂x$ at `x` (forward-mode dual numbers) and $f$ itself.
+    pub fn jacobian(&self, x: &Vector4<f64>, v: f64) -> (Matrix4<f64>, Vector4<f64>) {
+        let xd: [Dual<4>; 4] = std::array::from_fn(|k| Dual::var(x[k], k));
+        let r = self.rhs(&xd, v);
+        (
+            Matrix4::from_fn(|i, j| r[i].eps[j]),
+            Vector4::from_fn(|i, _| r[i].re),
+        )
+    }
+
+    /// Effective conicity at the centre, $λ_e = dr_R/dy(0)$ (–).
+    pub fn centre_conicity(&self) -> f64 {
+        let w = self.table.right(Dual::<1>::var(0.0, 0));
+        w.radius.eps[0]
+    }
+
+    /// Kinematic (Klingel) wavelength $L_k = 2π\sqrt{r_0 l_0/λ_e}$ (m), MODEL §9.
+    pub fn klingel_wavelength(&self) -> f64 {
+        let p = &self.params;
+        2.0 * std::f64::consts::PI
+            * (p.rolling_radius * p.half_contact_distance / self.centre_conicity()).sqrt()
+    }
+}

@@ -1,0 +1,134 @@
+//! Results to bytes (pure functions) and the one place that writes files.
+//!
+//! Numbers are written with Rust's shortest round-trip formatting, so a program reading the
+//! CSV or JSON gets exactly the `f64` that was computed. Every CSV header carries its unit.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde_json::{json, Value};
+
+use crate::analysis::{GeometryReport, LinearReport};
+use crate::stability::{CriticalSpeeds, Crossing, Spectrum};
+
+/// What every linear output calls the speeds it reports.
+pub const LINEAR_KIND: &str = "linear critical speed: Hopf bifurcation of the centred motion \
+(a complex eigenvalue pair of the exact Jacobian crosses the imaginary axis)";
+
+fn crossing_json(c: &Crossing) -> Value {
+    json!({
+        "speed_m_s": c.speed_m_s,
+        "speed_km_h": c.speed_m_s * 3.6,
+        "frequency_hz": c.frequency_hz,
+        "wavelength_m": c.wavelength_m,
+        "direction": c.direction.name(),
+        "bracket_m_s": c.bracket_m_s,
+    })
+}
+
+fn crossings_json(c: &CriticalSpeeds) -> Value {
+    Value::Array(c.crossings.iter().map(crossing_json).collect())
+}
+
+fn details_json(c: &CriticalSpeeds) -> Value {
+    json!({
+        "creep_law": c.law.name(),
+        "stable_at_range_start": c.stable_at_start,
+        "critical_speed_m_s": c.critical().map(|x| x.speed_m_s),
+        "crossings": crossings_json(c),
+        "divergence_speeds_m_s": c.divergence_speeds_m_s,
+        "polynomial_evaluations": c.evaluations,
+    })
+}
+
+/// The linear results as one JSON object (the `--json` contract and `linear.json`).
+pub fn linear_json(r: &LinearReport) -> Value {
+    let law = r.law_crossings();
+    json!({
+        "study": r.study,
+        "kind": LINEAR_KIND,
+        "speed_range_m_s": [r.kalker.speed_range.0, r.kalker.speed_range.1],
+        "creep_law": law.law.name(),
+        "critical_speeds": crossings_json(&r.kalker),
+        "creep_law_hopf_speeds": crossings_json(law),
+        "linear_critical_speed_m_s": r.kalker.critical().map(|c| c.speed_m_s),
+        "creep_law_hopf_speed_m_s": law.critical().map(|c| c.speed_m_s),
+        "centre_conicity": r.centre_conicity,
+        "klingel_wavelength_m": r.klingel_wavelength_m,
+        "kalker": details_json(&r.kalker),
+        "creep_law_details": details_json(law),
+    })
+}
+
+/// `spectrum.csv`: one row per (creep law, speed), the four eigenvalues and damping ratios.
+pub fn spectrum_csv(r: &LinearReport) -> String {
+    let mut s = String::from("creep_law,speed_m_s");
+    for k in 1..=4 {
+        let _ = write!(
+            s,
+            ",eig{k}_re_per_s,eig{k}_im_rad_per_s,eig{k}_damping_ratio"
+        );
+    }
+    s.push_str(",least_damping_ratio\n");
+    let mut rows = |law: &str, spectra: &[Spectrum]| {
+        for sp in spectra {
+            let _ = write!(s, "{law},{}", sp.speed_m_s);
+            for p in &sp.pairs {
+                let _ = write!(s, ",{},{},{}", p.re, p.im, p.damping_ratio());
+            }
+            let _ = writeln!(s, ",{}", sp.least_damping_ratio());
+        }
+    };
+    rows("kalker", &r.spectrum_kalker);
+    if let Some(c) = &r.creep_law {
+        rows(c.law.name(), &r.spectrum_creep_law);
+    }
+    s
+}
+
+/// `geometry.csv`: the contact state against y (right wheel; left by symmetry).
+pub fn geometry_csv(g: &GeometryReport) -> String {
+    let mut s = String::from(
+        "y_m,r_right_m,r_right_minus_r_left_m,delta_right_rad,delta_left_rad,roll_rad,\
+hertz_a_right_m,hertz_b_right_m,f11_right_n,f22_right_n,f23_right_n_m,f33_right_n_m2\n",
+    );
+    let n = g.rows.len();
+    for (k, row) in g.rows.iter().enumerate() {
+        // The grid is symmetric, so the left wheel at y is the right wheel at −y: row n−1−k.
+        let mirror = &g.rows[n - 1 - k];
+        let (a, b) = row
+            .semi_axes
+            .map_or((String::new(), String::new()), |(a, b)| {
+                (a.to_string(), b.to_string())
+            });
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{a},{b},{},{},{},{}",
+            row.y,
+            row.point.radius,
+            row.point.radius - mirror.point.radius,
+            row.point.angle,
+            mirror.point.angle,
+            row.point.roll,
+            row.creep.f11,
+            row.creep.f22,
+            row.creep.f23,
+            row.creep.f33,
+        );
+    }
+    s
+}
+
+/// The output folder of a study, `<root>/<name>`, created if needed.
+pub fn study_dir(root: &Path, name: &str) -> std::io::Result<PathBuf> {
+    let dir = root.join(name);
+    std::fs::create_dir_all(&dir)?;
+    Ok(dir)
+}
+
+/// Writes `bytes` to `dir/file` and returns the path written.
+pub fn write(dir: &Path, file: &str, bytes: &[u8]) -> std::io::Result<PathBuf> {
+    let path = dir.join(file);
+    std::fs::write(&path, bytes)?;
+    Ok(path)
+}

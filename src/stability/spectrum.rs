@@ -1,0 +1,81 @@
+//! Eigenvalues and eigenvectors of the centred-motion Jacobian at one speed.
+//!
+//! Uses faer's general (non-symmetric) eigen-decomposition, which gives right eigenvectors
+//! too, so that callers and tests can check the defining identity $J v = λ v$.
+
+use faer::Mat;
+use nalgebra::Matrix4;
+
+/// One eigenvalue with its right eigenvector.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EigenPair {
+    /// real part (1/s)
+    pub re: f64,
+    /// imaginary part (rad/s)
+    pub im: f64,
+    /// eigenvector, (re, im) per state component
+    pub vector: [(f64, f64); 4],
+}
+
+impl EigenPair {
+    /// Damping ratio $ζ = −\mathrm{Re}\,λ/|λ|$ (–); 1 for a zero eigenvalue's neighbourhood.
+    pub fn damping_ratio(&self) -> f64 {
+        let m = self.re.hypot(self.im);
+        if m > 0.0 {
+            -self.re / m
+        } else {
+            0.0
+        }
+    }
+    /// Frequency $|\mathrm{Im}\,λ|/2π$ (Hz).
+    pub fn frequency_hz(&self) -> f64 {
+        self.im.abs() / (2.0 * std::f64::consts::PI)
+    }
+}
+
+/// The spectrum at one speed, eigenvalues sorted by decreasing imaginary part then real part.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spectrum {
+    /// speed (m/s)
+    pub speed_m_s: f64,
+    /// the four eigenpairs
+    pub pairs: Vec<EigenPair>,
+}
+
+impl Spectrum {
+    /// The least damping ratio over the oscillatory modes (or all modes if none oscillates).
+    pub fn least_damping_ratio(&self) -> f64 {
+        let osc: Vec<f64> = self
+            .pairs
+            .iter()
+            .filter(|p| p.im.abs() > 0.0)
+            .map(EigenPair::damping_ratio)
+            .collect();
+        let all = if osc.is_empty() {
+            self.pairs.iter().map(EigenPair::damping_ratio).collect()
+        } else {
+            osc
+        };
+        all.into_iter().fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// Eigen-decomposition of `j`; `None` if the QR iteration failed (or `j` is not finite).
+pub fn spectrum_at(j: &Matrix4<f64>, speed_m_s: f64) -> Option<Spectrum> {
+    if !j.iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    let a = Mat::<f64>::from_fn(4, 4, |r, c| j[(r, c)]);
+    let evd = a.eigen().ok()?;
+    let s = evd.S().column_vector();
+    let u = evd.U();
+    let mut pairs: Vec<EigenPair> = (0..4)
+        .map(|k| EigenPair {
+            re: s[k].re,
+            im: s[k].im,
+            vector: std::array::from_fn(|r| (u[(r, k)].re, u[(r, k)].im)),
+        })
+        .collect();
+    pairs.sort_by(|p, q| q.im.total_cmp(&p.im).then(q.re.total_cmp(&p.re)));
+    Some(Spectrum { speed_m_s, pairs })
+}

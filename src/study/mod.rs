@@ -1,0 +1,495 @@
+//! Study files: read (schema), convert units once, check the physics, fill defaults (plan).
+//!
+//! The plan is entirely SI; nothing after it sees strings or millimetres. See README.md for
+//! the file format; [`DEFAULT_STUDY`] is the seed study embedded in the binary.
+
+pub mod schema;
+pub mod units;
+
+use std::path::Path;
+
+use crate::contact::creep::CreepLaw;
+use crate::contact::geometry::{Geometry, Nominal};
+use crate::contact::kalker::CreepCoefficients;
+use crate::contact::table::{ContactTable, CreepSource, Elastic, TableError, TableSpec};
+use crate::model::{Flange, Suspension, Wheelset, WheelsetParams};
+use crate::stability::LinearOptions;
+use schema::{Quantity, StudyFile};
+use units::{parse_quantity, Dimension, UnitProblem};
+
+/// The seed study (MODEL §10), embedded so that `critspeed run` works with no file.
+pub const DEFAULT_STUDY: &str = include_str!("../../studies/seed.toml");
+
+/// A problem with a study file. Every variant names the key and the offending value.
+#[derive(Debug, thiserror::Error)]
+pub enum StudyError {
+    #[error("cannot read study file {path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("study file {path} is not valid: {message}")]
+    Syntax { path: String, message: String },
+    #[error("{key} = {value:?}: {problem}; expected a {dim} in SI ({si}) or with one of the units {accepted}")]
+    Unit {
+        key: String,
+        value: String,
+        dim: Dimension,
+        si: &'static str,
+        accepted: String,
+        problem: UnitProblem,
+    },
+    #[error("{key} = {value}: {rule}")]
+    Rule {
+        key: String,
+        value: String,
+        rule: String,
+    },
+    #[error("{key} is missing: {why}")]
+    Missing { key: String, why: String },
+    #[error("{key} = {value:?} is not one of {allowed}")]
+    Choice {
+        key: String,
+        value: String,
+        allowed: &'static str,
+    },
+}
+
+/// Contact settings in SI with defaults filled.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactPlan {
+    /// geometry
+    pub geometry: Geometry,
+    /// the study's creep law (default Shen–Hedrick–Elkins, μ = 0.3)
+    pub creep_law: CreepLaw,
+    /// spin creepage on (default true)
+    pub spin: bool,
+    /// elastic constants (defaults: E = 210 GPa, ν = 0.3, G = E/(2(1+ν)))
+    pub elastic: Elastic,
+    /// rail head radius for the Hertz patch (m), if known
+    pub rail_head_radius: Option<f64>,
+    /// creep coefficients, given or from Hertz + Kalker
+    pub creep: CreepSource,
+    /// half-width of the tabulated geometry (m)
+    pub lateral_range: f64,
+    /// geometry table nodes
+    pub table_points: usize,
+}
+
+/// A validated study: everything in SI, defaults filled.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// study name (also the output folder name)
+    pub name: String,
+    /// description
+    pub description: String,
+    /// wheelset
+    pub wheelset: WheelsetParams,
+    /// suspension
+    pub suspension: Suspension,
+    /// contact
+    pub contact: ContactPlan,
+    /// flange, if any
+    pub flange: Option<Flange>,
+    /// linear analysis options
+    pub linear: LinearOptions,
+    /// speeds of the spectrum output (root locus, damping plot)
+    pub spectrum_points: usize,
+}
+
+/// Reads and validates a study file.
+pub fn load(path: &Path) -> Result<Plan, StudyError> {
+    let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io {
+        path: path.display().to_string(),
+        source,
+    })?;
+    parse(&text, &path.display().to_string())
+}
+
+/// Parses and validates study text; `origin` names it in messages.
+pub fn parse(text: &str, origin: &str) -> Result<Plan, StudyError> {
+    let file: StudyFile = toml::from_str(text).map_err(|e| StudyError::Syntax {
+        path: origin.to_string(),
+        message: e.to_string(),
+    })?;
+    plan(file)
+}
+
+fn quantity(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
+    let v = match q {
+        Quantity::Number(v) => Ok(*v),
+        Quantity::Text(t) => parse_quantity(t, dim),
+    };
+    let v = v.and_then(|v| {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(UnitProblem::NotFinite)
+        }
+    });
+    v.map_err(|problem| StudyError::Unit {
+        key: key.to_string(),
+        value: match q {
+            Quantity::Number(v) => v.to_string(),
+            Quantity::Text(t) => t.clone(),
+        },
+        dim,
+        si: dim.si_unit(),
+        accepted: dim.accepted(),
+        problem,
+    })
+}
+
+/// A quantity that must satisfy `ok`, described by `rule`.
+fn checked(
+    key: &str,
+    q: &Quantity,
+    dim: Dimension,
+    ok: impl Fn(f64) -> bool,
+    rule: &str,
+) -> Result<f64, StudyError> {
+    let v = quantity(key, q, dim)?;
+    if ok(v) {
+        Ok(v)
+    } else {
+        Err(StudyError::Rule {
+            key: key.to_string(),
+            value: format!("{v} {}", dim.si_unit()),
+            rule: rule.to_string(),
+        })
+    }
+}
+
+fn positive(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
+    checked(key, q, dim, |v| v > 0.0, "must be positive")
+}
+
+fn non_negative(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
+    checked(key, q, dim, |v| v >= 0.0, "must not be negative")
+}
+
+/// The cone slope: a number, or a ratio string such as "1:20" or "1/40".
+fn conicity(q: &Quantity) -> Result<f64, StudyError> {
+    const KEY: &str = "contact.conicity";
+    let v = match q {
+        Quantity::Text(t) if t.contains([':', '/']) => {
+            let parts: Vec<&str> = t.split([':', '/']).map(str::trim).collect();
+            let num = parts.first().and_then(|s| s.parse::<f64>().ok());
+            let den = parts.get(1).and_then(|s| s.parse::<f64>().ok());
+            match (num, den, parts.len()) {
+                (Some(n), Some(d), 2) if d != 0.0 => n / d,
+                _ => {
+                    return Err(StudyError::Rule {
+                        key: KEY.into(),
+                        value: t.clone(),
+                        rule: "a ratio must read like \"1:20\"".into(),
+                    })
+                }
+            }
+        }
+        _ => quantity(KEY, q, Dimension::Dimensionless)?,
+    };
+    if v > 0.0 && v < 1.0 {
+        Ok(v)
+    } else {
+        Err(StudyError::Rule {
+            key: KEY.into(),
+            value: v.to_string(),
+            rule: "the cone slope must lie in (0, 1)".into(),
+        })
+    }
+}
+
+fn plan(f: StudyFile) -> Result<Plan, StudyError> {
+    if f.name.is_empty()
+        || !f
+            .name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+        || f.name.starts_with('.')
+    {
+        return Err(StudyError::Rule {
+            key: "name".into(),
+            value: format!("{:?}", f.name),
+            rule: "must be a non-empty folder name of letters, digits, '-', '_' or '.'".into(),
+        });
+    }
+    let w = &f.wheelset;
+    let wheelset = WheelsetParams {
+        mass: positive("wheelset.mass", &w.mass, Dimension::Mass)?,
+        yaw_inertia: positive("wheelset.yaw_inertia", &w.yaw_inertia, Dimension::Inertia)?,
+        axle_load: positive("wheelset.axle_load", &w.axle_load, Dimension::Force)?,
+        half_contact_distance: positive(
+            "wheelset.half_contact_distance",
+            &w.half_contact_distance,
+            Dimension::Length,
+        )?,
+        rolling_radius: positive(
+            "wheelset.rolling_radius",
+            &w.rolling_radius,
+            Dimension::Length,
+        )?,
+    };
+    let s = &f.suspension;
+    let suspension = Suspension {
+        lateral_stiffness: non_negative(
+            "suspension.lateral_stiffness",
+            &s.lateral_stiffness,
+            Dimension::Stiffness,
+        )?,
+        longitudinal_stiffness: non_negative(
+            "suspension.longitudinal_stiffness",
+            &s.longitudinal_stiffness,
+            Dimension::Stiffness,
+        )?,
+        lateral_damping: non_negative(
+            "suspension.lateral_damping",
+            &s.lateral_damping,
+            Dimension::Damping,
+        )?,
+        longitudinal_damping: non_negative(
+            "suspension.longitudinal_damping",
+            &s.longitudinal_damping,
+            Dimension::Damping,
+        )?,
+        half_spring_spacing: positive(
+            "suspension.half_spring_spacing",
+            &s.half_spring_spacing,
+            Dimension::Length,
+        )?,
+    };
+    let flange = match &f.flange {
+        Some(fl) => Some(Flange {
+            clearance: positive("flange.clearance", &fl.clearance, Dimension::Length)?,
+            stiffness: positive("flange.stiffness", &fl.stiffness, Dimension::Stiffness)?,
+        }),
+        None => None,
+    };
+    let contact = contact_plan(&f.contact, &wheelset, flange.as_ref())?;
+    let (linear, spectrum_points) = linear_plan(f.linear.as_ref())?;
+    Ok(Plan {
+        name: f.name,
+        description: f.description.unwrap_or_default(),
+        wheelset,
+        suspension,
+        contact,
+        flange,
+        linear,
+        spectrum_points,
+    })
+}
+
+fn contact_plan(
+    c: &schema::ContactSection,
+    w: &WheelsetParams,
+    flange: Option<&Flange>,
+) -> Result<ContactPlan, StudyError> {
+    let lambda = conicity(&c.conicity)?;
+    let rail_head_radius = c
+        .rail_head_radius
+        .as_ref()
+        .map(|q| positive("contact.rail_head_radius", q, Dimension::Length))
+        .transpose()?;
+    let geometry = match c.geometry.as_str() {
+        "cone" => Geometry::Cone { conicity: lambda },
+        "cone-on-arc" => {
+            let radius = rail_head_radius.ok_or_else(|| StudyError::Missing {
+                key: "contact.rail_head_radius".into(),
+                why: "geometry \"cone-on-arc\" needs the rail head radius".into(),
+            })?;
+            // Default: the offset at which the arc's slope under the nominal contact point
+            // equals the cone's, so that the centred contact is at the nominal point.
+            let tangent_offset = radius * lambda.atan().sin();
+            let crown_offset = match &c.crown_offset {
+                Some(q) => checked(
+                    "contact.crown_offset",
+                    q,
+                    Dimension::Length,
+                    |v| v >= 0.0 && v < 0.5 * radius,
+                    "must lie in [0, rail_head_radius/2)",
+                )?,
+                None => tangent_offset,
+            };
+            Geometry::ConeOnArc {
+                conicity: lambda,
+                rail_head_radius: radius,
+                crown_offset,
+            }
+        }
+        other => {
+            return Err(StudyError::Choice {
+                key: "contact.geometry".into(),
+                value: other.into(),
+                allowed: "\"cone\", \"cone-on-arc\"",
+            })
+        }
+    };
+    if c.geometry == "cone" && c.crown_offset.is_some() {
+        return Err(StudyError::Rule {
+            key: "contact.crown_offset".into(),
+            value: "given".into(),
+            rule: "only applies to geometry \"cone-on-arc\"".into(),
+        });
+    }
+    let friction = match &c.friction {
+        Some(q) => positive("contact.friction", q, Dimension::Dimensionless)?,
+        None => 0.3,
+    };
+    let creep_law = match c.creep_law.as_deref().unwrap_or("shen") {
+        "kalker" => CreepLaw::Kalker,
+        "shen" => CreepLaw::Shen { friction },
+        other => {
+            return Err(StudyError::Choice {
+                key: "contact.creep_law".into(),
+                value: other.into(),
+                allowed: "\"kalker\", \"shen\"",
+            })
+        }
+    };
+    let young_modulus = match &c.young_modulus {
+        Some(q) => positive("contact.young_modulus", q, Dimension::Pressure)?,
+        None => 210e9,
+    };
+    let poisson_ratio = match &c.poisson_ratio {
+        Some(q) => checked(
+            "contact.poisson_ratio",
+            q,
+            Dimension::Dimensionless,
+            |v| v > 0.0 && v < 0.5,
+            "must lie in (0, 0.5)",
+        )?,
+        None => 0.3,
+    };
+    let shear_modulus = match &c.shear_modulus {
+        Some(q) => positive("contact.shear_modulus", q, Dimension::Pressure)?,
+        None => young_modulus / (2.0 * (1.0 + poisson_ratio)),
+    };
+    let creep = match &c.creep_coefficients {
+        Some(cc) => CreepSource::Given(CreepCoefficients {
+            f11: positive("contact.creep_coefficients.f11", &cc.f11, Dimension::Force)?,
+            f22: positive("contact.creep_coefficients.f22", &cc.f22, Dimension::Force)?,
+            f23: non_negative(
+                "contact.creep_coefficients.f23",
+                &cc.f23,
+                Dimension::ForceLength,
+            )?,
+            f33: non_negative(
+                "contact.creep_coefficients.f33",
+                &cc.f33,
+                Dimension::ForceArea,
+            )?,
+        }),
+        None if rail_head_radius.is_some() => CreepSource::Hertz,
+        None => {
+            return Err(StudyError::Missing {
+                key: "contact.creep_coefficients".into(),
+                why: "without a rail_head_radius they cannot be computed from the Hertz patch"
+                    .into(),
+            })
+        }
+    };
+    let default_range = flange.map_or(0.010, |f| (1.5 * f.clearance).max(0.010));
+    let lateral_range = match &c.lateral_range {
+        Some(q) => checked(
+            "contact.lateral_range",
+            q,
+            Dimension::Length,
+            |v| v > 0.0 && v < 0.5 * w.half_contact_distance,
+            "must lie in (0, half_contact_distance/2)",
+        )?,
+        None => default_range,
+    };
+    let table_points = c.table_points.unwrap_or(401);
+    if !(5..=100_001).contains(&table_points) {
+        return Err(StudyError::Rule {
+            key: "contact.table_points".into(),
+            value: table_points.to_string(),
+            rule: "must lie in [5, 100001]".into(),
+        });
+    }
+    Ok(ContactPlan {
+        geometry,
+        creep_law,
+        spin: c.spin.unwrap_or(true),
+        elastic: Elastic {
+            young_modulus,
+            poisson_ratio,
+            shear_modulus,
+        },
+        rail_head_radius,
+        creep,
+        lateral_range,
+        table_points,
+    })
+}
+
+fn linear_plan(l: Option<&schema::LinearSection>) -> Result<(LinearOptions, usize), StudyError> {
+    let mut opts = LinearOptions::default();
+    let mut spectrum_points = 300;
+    if let Some(l) = l {
+        if let Some([a, b]) = &l.speed_range {
+            let lo = positive("linear.speed_range[0]", a, Dimension::Speed)?;
+            let hi = positive("linear.speed_range[1]", b, Dimension::Speed)?;
+            if hi <= lo {
+                return Err(StudyError::Rule {
+                    key: "linear.speed_range".into(),
+                    value: format!("[{lo}, {hi}] m/s"),
+                    rule: "the maximum must exceed the minimum".into(),
+                });
+            }
+            opts.speed_range = (lo, hi);
+        }
+        if let Some(n) = l.grid_points {
+            if !(3..=1_000_000).contains(&n) {
+                return Err(StudyError::Rule {
+                    key: "linear.grid_points".into(),
+                    value: n.to_string(),
+                    rule: "must lie in [3, 1000000]".into(),
+                });
+            }
+            opts.grid_points = n;
+        }
+        if let Some(n) = l.spectrum_points {
+            if !(2..=100_000).contains(&n) {
+                return Err(StudyError::Rule {
+                    key: "linear.spectrum_points".into(),
+                    value: n.to_string(),
+                    rule: "must lie in [2, 100000]".into(),
+                });
+            }
+            spectrum_points = n;
+        }
+    }
+    Ok((opts, spectrum_points))
+}
+
+impl Plan {
+    /// The geometry table specification of this plan.
+    pub fn table_spec(&self) -> TableSpec {
+        TableSpec {
+            nominal: Nominal {
+                rolling_radius: self.wheelset.rolling_radius,
+                half_contact_distance: self.wheelset.half_contact_distance,
+            },
+            axle_load: self.wheelset.axle_load,
+            elastic: self.contact.elastic,
+            rail_head_radius: self.contact.rail_head_radius,
+            creep: self.contact.creep,
+            half_width: self.contact.lateral_range,
+            nodes: self.contact.table_points,
+        }
+    }
+
+    /// Builds the model: tabulates the contact geometry and attaches the parameters.
+    pub fn model(&self) -> Result<Wheelset, TableError> {
+        let table = ContactTable::build(&self.contact.geometry, &self.table_spec())?;
+        Ok(Wheelset {
+            params: self.wheelset,
+            suspension: self.suspension,
+            creep_law: self.contact.creep_law,
+            spin: self.contact.spin,
+            flange: self.flange,
+            table,
+        })
+    }
+}
