@@ -34,6 +34,7 @@ pub mod figures;
 pub mod model;
 pub mod output;
 pub mod plot;
+pub mod reference;
 pub mod stability;
 pub mod study;
 pub mod system;
