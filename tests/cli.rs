@@ -1,0 +1,122 @@
+//! The real program, run as a user runs it: outputs, JSON contract, exit codes.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn critspeed(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_critspeed"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("critspeed-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+fn study(name: &str) -> String {
+    format!("{}/studies/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn run_without_a_study_writes_the_seed_outputs() {
+    let dir = scratch("run");
+    let out = critspeed(&["run"], &dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for f in [
+        "linear.json",
+        "spectrum.csv",
+        "root_locus.svg",
+        "damping.svg",
+        "geometry.csv",
+        "geometry.svg",
+    ] {
+        let p = dir.join("out/seed").join(f);
+        let meta = std::fs::metadata(&p).unwrap_or_else(|_| panic!("{} written", p.display()));
+        assert!(meta.len() > 100, "{} is not empty", p.display());
+    }
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("Kalker"), "{stdout}");
+}
+
+#[test]
+fn linear_json_has_the_contract_keys() {
+    let dir = scratch("json");
+    let out = critspeed(&["linear", &study("seed.toml"), "--json"], &dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_slice(&out.stdout).expect("stdout is one JSON object");
+    assert_eq!(v["study"], "seed");
+    let range = v["speed_range_m_s"].as_array().expect("range array");
+    assert_eq!(range.len(), 2);
+    assert!(v["critical_speeds"].is_array() && v["creep_law_hopf_speeds"].is_array());
+    for c in v["critical_speeds"].as_array().into_iter().flatten() {
+        assert!(c["speed_m_s"].is_f64() && c["frequency_hz"].is_f64());
+        assert!(c["direction"] == "onset" || c["direction"] == "recovery");
+    }
+    // the file written is the same object
+    let file: serde_json::Value = serde_json::from_slice(
+        &std::fs::read(dir.join("out/seed/linear.json")).expect("linear.json"),
+    )
+    .expect("valid JSON");
+    assert_eq!(file, v);
+}
+
+#[test]
+fn spectrum_csv_header_is_stable() {
+    let dir = scratch("csv");
+    let out = critspeed(&["linear", &study("seed.toml")], &dir);
+    assert!(out.status.success());
+    let text = std::fs::read_to_string(dir.join("out/seed/spectrum.csv")).expect("csv");
+    let header = text.lines().next().expect("header");
+    assert_eq!(
+        header,
+        "creep_law,speed_m_s,eig1_re_per_s,eig1_im_rad_per_s,eig1_damping_ratio,\
+eig2_re_per_s,eig2_im_rad_per_s,eig2_damping_ratio,eig3_re_per_s,eig3_im_rad_per_s,\
+eig3_damping_ratio,eig4_re_per_s,eig4_im_rad_per_s,eig4_damping_ratio,least_damping_ratio"
+    );
+    let cols = header.split(',').count();
+    assert!(text.lines().skip(1).all(|l| l.split(',').count() == cols));
+}
+
+#[test]
+fn user_errors_exit_2_without_panicking() {
+    let dir = scratch("errors");
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, "name = \"x\"\n").expect("write");
+    for args in [
+        vec!["linear", "/nonexistent.toml"],
+        vec!["linear", bad.to_str().expect("utf-8 path")],
+        vec!["frobnicate"],
+        vec!["check"],
+    ] {
+        let out = critspeed(&args, &dir);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
+
+#[test]
+fn check_prints_the_plan_in_si() {
+    let dir = scratch("check");
+    let out = critspeed(&["check", &study("seed.toml")], &dir);
+    assert!(out.status.success());
+    let s = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        s.contains("700 kg m^2") && s.contains("3860000 N/m") && s.contains("8000 N s/m"),
+        "{s}"
+    );
+}
