@@ -31,7 +31,8 @@ fn root_locus_series(name: &str, spectra: &[Spectrum]) -> Series {
     let mut points = Vec::new();
     let mut values = Vec::new();
     for sp in spectra {
-        for p in sp.pairs.iter().filter(|p| p.im >= 0.0) {
+        // oscillatory modes only: the real (creep-damped) modes reach −10⁴ 1/s at low speed
+        for p in sp.pairs.iter().filter(|p| p.im > 0.0) {
             points.push((p.re, p.im / (2.0 * std::f64::consts::PI)));
             values.push(sp.speed_m_s);
         }
@@ -61,13 +62,28 @@ fn damping_series(name: &str, spectra: &[Spectrum], dashed: bool) -> Series {
 pub fn linear(r: &LinearReport) -> Result<Vec<(String, String)>, PlotError> {
     let mut locus = figure(
         &format!(
-            "{}: root locus of the centred motion (Kalker creep)",
+            "{}: root locus of the oscillatory modes (Kalker creep; real modes off scale)",
             r.study
         ),
         "real part (1/s)",
         "frequency Im/2π (Hz)",
     );
-    locus.series.push(root_locus_series("", &r.spectrum_kalker));
+    let series = root_locus_series("", &r.spectrum_kalker);
+    // Show the real parts from the 5 % quantile up to the largest: at the lowest speeds the
+    // oscillatory modes too are damped by creep ∝ 1/V and would squash the interesting part.
+    let mut re: Vec<f64> = series
+        .points
+        .iter()
+        .map(|p| p.0)
+        .filter(|x| x.is_finite())
+        .collect();
+    re.sort_by(f64::total_cmp);
+    if let (Some(&lo), Some(&hi)) = (re.get(re.len() / 20), re.last()) {
+        let hi = hi.max(0.0);
+        let pad = 0.05 * (hi - lo).max(1e-9);
+        locus.x_range = Some((lo - pad, hi + pad));
+    }
+    locus.series.push(series);
     locus.vlines.push(Marker {
         at: 0.0,
         label: "stability boundary".into(),

@@ -353,3 +353,17 @@ fn bad_options_are_rejected() {
         );
     }
 }
+
+/// The structured (second-order) characteristic polynomial equals the general one.
+#[test]
+fn structured_and_general_characteristic_polynomials_agree() {
+    let w = seed_cone(SHEN).expect("seed cone");
+    let sys = LinearSystem::at_centre(&w);
+    for v in [1.5, 40.0, 333.0] {
+        let fast = sys.coefficients(v);
+        let general = characteristic_polynomial(&sys.jacobian(v));
+        for k in 0..4 {
+            assert_relative_eq!(fast[k], general[k], max_relative = 1e-12);
+        }
+    }
+}

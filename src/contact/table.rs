@@ -102,6 +102,13 @@ pub struct ContactTable {
     has_patch: bool,
 }
 
+/// Where `y` falls in the table, with the Hermite weights.
+#[derive(Clone, Copy, Debug)]
+enum Basis {
+    Inside { k: usize, w: [f64; 4], dw: [f64; 4] },
+    Outside { node: usize, d: f64 },
+}
+
 /// The interpolated contact state of one wheel.
 #[derive(Clone, Copy, Debug)]
 pub struct WheelState<T> {
@@ -182,58 +189,81 @@ impl ContactTable {
             .collect()
     }
 
-    /// Interpolates column `c` at `y` (value and slope).
+    /// The cell and cubic Hermite basis at `y` (value and d/dy weights for p0, m0, p1, m1),
+    /// or the end node for the linear extension beyond the table.
     #[inline]
-    fn interp(&self, c: usize, y: f64) -> (f64, f64) {
+    fn basis(&self, y: f64) -> Basis {
         let n = self.value.len();
         let s = (y - self.y0) / self.h;
-        if !(s >= 0.0) {
+        if s.is_nan() || s < 0.0 {
             // below the table (or NaN): linear extension of the first node
-            let d = y - self.y0;
-            return (self.value[0][c] + self.slope[0][c] * d, self.slope[0][c]);
+            return Basis::Outside {
+                node: 0,
+                d: y - self.y0,
+            };
         }
         if s >= (n - 1) as f64 {
             let d = y - (self.y0 + (n - 1) as f64 * self.h);
-            return (
-                self.value[n - 1][c] + self.slope[n - 1][c] * d,
-                self.slope[n - 1][c],
-            );
+            return Basis::Outside { node: n - 1, d };
         }
         let k = (s as usize).min(n - 2);
         let t = s - k as f64;
-        let (p0, p1) = (self.value[k][c], self.value[k + 1][c]);
-        let (m0, m1) = (self.slope[k][c] * self.h, self.slope[k + 1][c] * self.h);
-        // cubic Hermite basis
-        let t2 = t * t;
-        let t3 = t2 * t;
-        let v = (2.0 * t3 - 3.0 * t2 + 1.0) * p0
-            + (t3 - 2.0 * t2 + t) * m0
-            + (-2.0 * t3 + 3.0 * t2) * p1
-            + (t3 - t2) * m1;
-        let dv = (6.0 * t2 - 6.0 * t) * p0
-            + (3.0 * t2 - 4.0 * t + 1.0) * m0
-            + (-6.0 * t2 + 6.0 * t) * p1
-            + (3.0 * t2 - 2.0 * t) * m1;
-        (v, dv / self.h)
+        let (t2, t3) = (t * t, t * t * t);
+        let h = self.h;
+        Basis::Inside {
+            k,
+            w: [
+                2.0 * t3 - 3.0 * t2 + 1.0,
+                (t3 - 2.0 * t2 + t) * h,
+                -2.0 * t3 + 3.0 * t2,
+                (t3 - t2) * h,
+            ],
+            dw: [
+                (6.0 * t2 - 6.0 * t) / h,
+                3.0 * t2 - 4.0 * t + 1.0,
+                (-6.0 * t2 + 6.0 * t) / h,
+                3.0 * t2 - 2.0 * t,
+            ],
+        }
+    }
+
+    /// Column `c` (value, slope) with a precomputed basis.
+    #[inline]
+    fn apply(&self, b: &Basis, c: usize) -> (f64, f64) {
+        match *b {
+            Basis::Outside { node, d } => (
+                self.value[node][c] + self.slope[node][c] * d,
+                self.slope[node][c],
+            ),
+            Basis::Inside { k, w, dw } => {
+                let (p0, p1) = (self.value[k][c], self.value[k + 1][c]);
+                let (m0, m1) = (self.slope[k][c], self.slope[k + 1][c]);
+                (
+                    w[0] * p0 + w[1] * m0 + w[2] * p1 + w[3] * m1,
+                    dw[0] * p0 + dw[1] * m0 + dw[2] * p1 + dw[3] * m1,
+                )
+            }
+        }
     }
 
     #[inline]
-    fn column<T: Scalar>(&self, c: usize, y: T) -> T {
-        let (v, d) = self.interp(c, y.re());
+    fn column<T: Scalar>(&self, b: &Basis, c: usize, y: T) -> T {
+        let (v, d) = self.apply(b, c);
         y.lift(v, d)
     }
 
     /// The right wheel's state at displacement `y`.
     #[inline]
     pub fn right<T: Scalar>(&self, y: T) -> WheelState<T> {
+        let b = self.basis(y.re());
         WheelState {
-            radius: self.column(RADIUS, y),
-            angle: self.column(ANGLE, y),
+            radius: self.column(&b, RADIUS, y),
+            angle: self.column(&b, ANGLE, y),
             creep: CreepCoefficients {
-                f11: self.column(F11, y),
-                f22: self.column(F11 + 1, y),
-                f23: self.column(F11 + 2, y),
-                f33: self.column(F11 + 3, y),
+                f11: self.column(&b, F11, y),
+                f22: self.column(&b, F11 + 1, y),
+                f23: self.column(&b, F11 + 2, y),
+                f33: self.column(&b, F11 + 3, y),
             },
         }
     }
@@ -246,7 +276,8 @@ impl ContactTable {
 
     /// Roll angle φ(y) (rad).
     pub fn roll<T: Scalar>(&self, y: T) -> T {
-        self.column(ROLL, y)
+        let b = self.basis(y.re());
+        self.column(&b, ROLL, y)
     }
 }
 

@@ -30,13 +30,11 @@ pub enum StudyError {
     },
     #[error("study file {path} is not valid: {message}")]
     Syntax { path: String, message: String },
-    #[error("{key} = {value:?}: {problem}; expected a {dim} in SI ({si}) or with one of the units {accepted}")]
+    #[error("{key} = {value:?}: {problem}; expected a {dim} in SI ({}) or with one of the units {}", .dim.si_unit(), .dim.accepted())]
     Unit {
         key: String,
         value: String,
         dim: Dimension,
-        si: &'static str,
-        accepted: String,
         problem: UnitProblem,
     },
     #[error("{key} = {value}: {rule}")]
@@ -134,8 +132,6 @@ fn quantity(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> 
             Quantity::Text(t) => t.clone(),
         },
         dim,
-        si: dim.si_unit(),
-        accepted: dim.accepted(),
         problem,
     })
 }
