@@ -38,3 +38,5 @@ pub mod reference;
 pub mod stability;
 pub mod study;
 pub mod system;
+#[cfg(test)]
+mod testutil;

@@ -67,6 +67,20 @@ pub fn linear(plan: &Plan, r: &LinearReport) -> String {
         let label = format!("{}: Hopf V_H", c.law.name());
         crossings(&mut s, &label, c);
     }
+    // How far from instability the top of the range is, so "no crossing" has a measure.
+    for (name, spectra) in [
+        ("Kalker", &r.spectrum_kalker),
+        ("creep law", &r.spectrum_creep_law),
+    ] {
+        if let Some(last) = spectra.last() {
+            let _ = writeln!(
+                s,
+                "  least damping ratio at {:.1} m/s ({name}): {:.4}",
+                last.speed_m_s,
+                last.least_damping_ratio()
+            );
+        }
+    }
     s
 }
 

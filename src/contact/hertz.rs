@@ -269,7 +269,6 @@ pub fn hertz_patch<T: Scalar>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::path::PathBuf;
 
     type TestResult = Result<(), Box<dyn std::error::Error>>;
     const E_STEEL: f64 = 210e9;
@@ -277,15 +276,6 @@ mod tests {
 
     fn close(x: f64, y: f64, rel: f64) -> bool {
         (x - y).abs() <= rel * x.abs().max(y.abs())
-    }
-
-    /// A file of the project's shared reference data (`shared/reference/`, beside the crate).
-    fn shared_reference(name: &str) -> Option<PathBuf> {
-        let beside = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/reference");
-        [beside, PathBuf::from("/work/shared/reference")]
-            .into_iter()
-            .map(|dir| dir.join(name))
-            .find(|p| p.is_file())
     }
 
     fn patch(n: f64, ca: f64, cb: f64) -> Result<(f64, f64), HertzError> {
@@ -370,7 +360,8 @@ mod tests {
     /// The table prints 5 decimals (e: 6), so the tolerance is half a unit of the last digit.
     #[test]
     fn reproduces_exact_hertz_m_n_table() -> TestResult {
-        let path = shared_reference("hertz_mn.csv").ok_or("hertz_mn.csv not found")?;
+        let path =
+            crate::testutil::shared_reference("hertz_mn.csv").ok_or("hertz_mn.csv not found")?;
         let text = std::fs::read_to_string(path)?;
         let n_force = 1.0e4;
         let mut rows = 0;

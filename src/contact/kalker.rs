@@ -296,18 +296,8 @@ pub fn creep_coefficients<T: Scalar>(
 mod tests {
     use super::*;
     use crate::system::scalar::Dual;
-    use std::path::PathBuf;
 
     type TestResult = Result<(), Box<dyn std::error::Error>>;
-
-    /// A file of the project's shared reference data (`shared/reference/`, beside the crate).
-    fn shared_reference(name: &str) -> Option<PathBuf> {
-        let beside = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/reference");
-        [beside, PathBuf::from("/work/shared/reference")]
-            .into_iter()
-            .map(|dir| dir.join(name))
-            .find(|p| p.is_file())
-    }
 
     fn c_at(r: f64, nu: f64) -> Result<[f64; 4], KalkerError> {
         kalker_c(r, nu)
@@ -320,7 +310,8 @@ mod tests {
         let tab = table()?;
         assert_eq!(tab.t.len(), 19);
         assert_eq!(tab.range, (0.1, 10.0));
-        let path = shared_reference("kalker_coefficients.csv").ok_or("shared csv not found")?;
+        let path = crate::testutil::shared_reference("kalker_coefficients.csv")
+            .ok_or("shared csv not found")?;
         assert_eq!(std::fs::read_to_string(path)?, TABLE_CSV);
         Ok(())
     }
