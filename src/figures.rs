@@ -199,3 +199,100 @@ pub fn geometry(g: &GeometryReport) -> Result<String, PlotError> {
     }
     render_grid(&panels, 2, 1200, 900)
 }
+
+/// `bifurcation.svg`: lateral amplitude against speed, stable cycles solid, unstable dashed,
+/// the centred solution along the axis, Hopf, folds and the Kalker speed marked.
+pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> Result<String, PlotError> {
+    let mut fig = figure(
+        &format!("{}: hunting limit cycles ({} creep)", r.study, r.law.name()),
+        "speed V (m/s)",
+        "lateral amplitude max|y| (mm)",
+    );
+    // Contiguous runs of equal stability; all runs of one kind form one series, separated by
+    // a NaN point (a gap), so each kind keeps one colour and one legend entry. Runs overlap
+    // by one point so that they join.
+    let cycles = &r.cycles;
+    let mut runs: [Vec<(f64, f64)>; 2] = [Vec::new(), Vec::new()];
+    let mut start = 0;
+    for k in 1..=cycles.len() {
+        if k == cycles.len() || cycles[k].stable != cycles[start].stable {
+            let run = &mut runs[usize::from(!cycles[start].stable)];
+            if !run.is_empty() {
+                run.push((f64::NAN, f64::NAN));
+            }
+            let end = (k + 1).min(cycles.len());
+            run.extend(
+                cycles[start..end]
+                    .iter()
+                    .map(|c| (c.speed_m_s, c.amplitude_y_m * 1e3)),
+            );
+            start = k;
+        }
+    }
+    let [stable, unstable] = runs;
+    if !stable.is_empty() {
+        fig.series.push(line("stable cycles", stable, false));
+    }
+    if !unstable.is_empty() {
+        fig.series.push(line("unstable cycles", unstable, true));
+    }
+    let (lo, hi) = r.speed_range;
+    match r.hopf {
+        Some(h) => {
+            fig.series.push(line(
+                "centred: stable",
+                vec![(lo, 0.0), (h.speed_m_s, 0.0)],
+                false,
+            ));
+            fig.series.push(line(
+                "centred: unstable",
+                vec![(h.speed_m_s, 0.0), (hi, 0.0)],
+                true,
+            ));
+            fig.vlines.push(Marker {
+                at: h.speed_m_s,
+                label: format!(
+                    "Hopf ({}) {:.2} m/s",
+                    r.hopf_type.map_or("?", |t| t.name()),
+                    h.speed_m_s
+                ),
+            });
+        }
+        None => fig
+            .series
+            .push(line("centred: stable", vec![(lo, 0.0), (hi, 0.0)], false)),
+    }
+    if let Some(v) = r.kalker_critical_speed_m_s {
+        fig.vlines.push(Marker {
+            at: v,
+            label: format!("Kalker V_L {v:.2} m/s"),
+        });
+    }
+    let folds: Vec<(f64, f64)> = r
+        .special
+        .iter()
+        .map(|s| (s.speed_m_s, s.amplitude_y_m * 1e3))
+        .collect();
+    if !folds.is_empty() {
+        let names: Vec<String> = r
+            .special
+            .iter()
+            .map(|s| format!("{} {:.2} m/s", s.kind.name(), s.speed_m_s))
+            .collect();
+        fig.series.push(Series {
+            name: names.join(", "),
+            points: folds,
+            style: Style::Points,
+        });
+    }
+    if let Some((v, located)) = r.nonlinear_critical_speed {
+        fig.vlines.push(Marker {
+            at: v,
+            label: format!(
+                "V_NL {v:.2} m/s{}",
+                if located { "" } else { " (bracketed)" }
+            ),
+        });
+    }
+    render_svg(&fig, 1000, 650)
+}

@@ -28,13 +28,16 @@
 //! ```
 
 pub mod analysis;
+pub mod bifurcation;
 pub mod cli;
 pub mod contact;
+pub mod continuation;
 pub mod figures;
 pub mod model;
 pub mod output;
 pub mod plot;
 pub mod reference;
+pub mod simulate;
 pub mod stability;
 pub mod study;
 pub mod system;

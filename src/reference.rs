@@ -152,3 +152,49 @@ pub fn hurwitz_critical_speed(
     let v2 = pp * q * sigma / den;
     (den > 0.0 && v2 > 0.0).then(|| (v2.sqrt(), (q / pp).sqrt()))
 }
+
+/// The Hopf normal form (Stuart–Landau oscillator) in Cartesian coordinates, parameter μ:
+/// $\dot r = r(μ + a r^2 + b r^4)$, $\dot θ = ω$. With `a = −1, b = 0` (supercritical) the
+/// cycles are $r = \sqrt{μ}$; with `a = 1, b = −1` (subcritical) they are $μ = r^4 − r^2$, with
+/// a fold at $μ = −1/4$, $r^2 = 1/2$. The period is $2π/ω$ and the radial multiplier is
+/// $\exp(T\, r\, ∂_r[μ + a r^2 + b r^4])$. The field is odd, so its cycles are symmetric.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HopfNormalForm {
+    /// angular frequency ω (rad/s)
+    pub omega: f64,
+    /// cubic coefficient a
+    pub a: f64,
+    /// quintic coefficient b
+    pub b: f64,
+}
+
+impl HopfNormalForm {
+    /// The radial growth rate $g(r^2) = μ + a r^2 + b r^4$.
+    fn g(&self, mu: f64, r2: f64) -> f64 {
+        mu + self.a * r2 + self.b * r2 * r2
+    }
+    /// Radial Floquet multiplier of the cycle of radius² `r2`: $\exp(T\,2r^2 g'(r^2))$.
+    pub fn radial_multiplier(&self, r2: f64) -> f64 {
+        let t = 2.0 * std::f64::consts::PI / self.omega;
+        (t * 2.0 * r2 * (self.a + 2.0 * self.b * r2)).exp()
+    }
+}
+
+impl crate::system::ode::VectorField<2> for HopfNormalForm {
+    fn rhs(&self, x: &nalgebra::SVector<f64, 2>, mu: f64) -> nalgebra::SVector<f64, 2> {
+        let r2 = x[0] * x[0] + x[1] * x[1];
+        let g = self.g(mu, r2);
+        nalgebra::SVector::<f64, 2>::new(g * x[0] - self.omega * x[1], self.omega * x[0] + g * x[1])
+    }
+    fn jacobian(&self, x: &nalgebra::SVector<f64, 2>, mu: f64) -> nalgebra::SMatrix<f64, 2, 2> {
+        let r2 = x[0] * x[0] + x[1] * x[1];
+        let g = self.g(mu, r2);
+        let dg = self.a + 2.0 * self.b * r2; // dg/d(r²)
+        nalgebra::SMatrix::<f64, 2, 2>::new(
+            g + 2.0 * dg * x[0] * x[0],
+            -self.omega + 2.0 * dg * x[0] * x[1],
+            self.omega + 2.0 * dg * x[0] * x[1],
+            g + 2.0 * dg * x[1] * x[1],
+        )
+    }
+}

@@ -6,6 +6,7 @@ use anyhow::{anyhow, Context};
 
 use super::{table, Cli, Command, Failure};
 use crate::analysis::{self, GeometryReport, LinearReport};
+use crate::bifurcation::BifurcationReport;
 use crate::figures;
 use crate::model::Wheelset;
 use crate::output;
@@ -33,6 +34,19 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
                 println!("{text}");
             } else {
                 print!("{}", table::linear(&plan, &report));
+            }
+            Ok(())
+        }
+        Command::Bifurcation { study, json } => {
+            let plan = load(study)?;
+            let model = build(&plan)?;
+            let report = bifurcation(&plan, &model, &cli.out)?;
+            if *json {
+                let text = serde_json::to_string_pretty(&output::bifurcation_json(&report))
+                    .map_err(compute)?;
+                println!("{text}");
+            } else {
+                print!("{}", table::bifurcation(&report));
             }
             Ok(())
         }
@@ -93,6 +107,50 @@ fn linear(plan: &Plan, model: &Wheelset, root: &Path) -> Result<LinearReport, Fa
     Ok(report)
 }
 
+fn bifurcation(plan: &Plan, model: &Wheelset, root: &Path) -> Result<BifurcationReport, Failure> {
+    let opts = plan.bifurcation_options();
+    eprintln!(
+        "continuing the hunting cycles of '{}' over [{}, {}] m/s (up to {} cycles, amplitude {} mm)",
+        plan.name,
+        opts.speed_range.0,
+        opts.speed_range.1,
+        opts.max_points,
+        opts.max_amplitude * 1e3
+    );
+    let started = std::time::Instant::now();
+    let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let progress = |k: usize, v: f64, a: f64| {
+        if tty && k % 5 == 0 {
+            eprint!(
+                "\r  cycle {k:>4}: V = {v:8.3} m/s, amplitude {:7.3} mm   ",
+                a * 1e3
+            );
+        } else if !tty && k % 50 == 0 {
+            eprintln!(
+                "  cycle {k:>4}: V = {v:8.3} m/s, amplitude {:7.3} mm",
+                a * 1e3
+            );
+        }
+    };
+    let report =
+        crate::bifurcation::analyse_with_progress(&plan.name, model, &opts, Some(&progress))
+            .map_err(|e| compute(anyhow!(e)))?;
+    let clear = if tty { "\r" } else { "" };
+    eprintln!(
+        "{clear}  {} cycles in {:.2} s{}",
+        report.cycles.len(),
+        started.elapsed().as_secs_f64(),
+        if tty { " ".repeat(40) } else { String::new() }
+    );
+    let dir = out_dir(root, plan)?;
+    let json = serde_json::to_string_pretty(&output::bifurcation_json(&report)).map_err(compute)?;
+    write(&dir, "bifurcation.json", json.as_bytes())?;
+    write(&dir, "branch.csv", output::branch_csv(&report).as_bytes())?;
+    let svg = figures::bifurcation(&report).map_err(|e| compute(anyhow!(e)))?;
+    write(&dir, "bifurcation.svg", svg.as_bytes())?;
+    Ok(report)
+}
+
 fn geometry(plan: &Plan, model: &Wheelset, root: &Path) -> Result<GeometryReport, Failure> {
     let g = analysis::geometry(plan, model);
     let dir = out_dir(root, plan)?;
@@ -115,5 +173,9 @@ fn run(root: &Path, study: Option<&Path>) -> Result<(), Failure> {
     print!("{}", table::geometry(&g));
     let report = linear(&plan, &model, root)?;
     print!("{}", table::linear(&plan, &report));
+    if plan.bifurcation.is_some() {
+        let b = bifurcation(&plan, &model, root)?;
+        print!("{}", table::bifurcation(&b));
+    }
     Ok(())
 }

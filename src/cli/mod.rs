@@ -23,14 +23,24 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Everything the study asks for (geometry and linear stability). Without STUDY, runs
-    /// the embedded seed study and writes out/seed/.
+    /// Everything the study asks for (geometry, linear stability, and the bifurcation
+    /// diagram when the study has a [bifurcation] section). Without STUDY, runs the embedded
+    /// seed study and writes out/seed/.
     Run {
         /// Study file (TOML); omit for the embedded seed study.
         study: Option<PathBuf>,
     },
     /// Linear (Kalker) critical speeds and the creep law's Hopf speeds, with spectra.
     Linear {
+        /// Study file (TOML).
+        study: PathBuf,
+        /// Print one JSON object on stdout instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// The branch of hunting limit cycles from the Hopf point of the study's creep law:
+    /// stability (Floquet multipliers), folds, the nonlinear critical speed, the diagram.
+    Bifurcation {
         /// Study file (TOML).
         study: PathBuf,
         /// Print one JSON object on stdout instead of the table.

@@ -232,3 +232,65 @@ pub fn plan(p: &Plan) -> String {
     line("linear.spectrum_points", format!("{}", p.spectrum_points));
     s
 }
+
+/// The bifurcation results.
+pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "\nstudy '{}': hunting limit cycles ({} creep), V in [{}, {}] m/s",
+        r.study,
+        r.law.name(),
+        r.speed_range.0,
+        r.speed_range.1
+    );
+    let speed = |v: Option<f64>| {
+        v.map_or("none in range".to_string(), |v| {
+            format!("{v:.4} m/s ({:.1} km/h)", v * 3.6)
+        })
+    };
+    let _ = writeln!(
+        s,
+        "  linear (Kalker) critical speed V_L     {}",
+        speed(r.kalker_critical_speed_m_s)
+    );
+    let _ = writeln!(
+        s,
+        "  Hopf speed of the creep law V_H        {}{}",
+        speed(r.hopf.map(|h| h.speed_m_s)),
+        r.hopf_type
+            .map_or(String::new(), |t| format!(", {}", t.name()))
+    );
+    let _ = writeln!(
+        s,
+        "  nonlinear critical speed V_NL          {}{}",
+        speed(r.nonlinear_critical_speed.map(|v| v.0)),
+        match r.nonlinear_critical_speed {
+            Some((_, true)) => ", located",
+            Some((_, false)) => ", lowest stable computed cycle (not located)",
+            None => "",
+        }
+    );
+    for p in &r.special {
+        let _ = writeln!(
+            s,
+            "  {:<38} {:.4} m/s at amplitude {:.3} mm ({})",
+            p.kind.name(),
+            p.speed_m_s,
+            p.amplitude_y_m * 1e3,
+            if p.located { "located" } else { "bracketed" }
+        );
+    }
+    let worst = r
+        .cycles
+        .iter()
+        .map(|c| c.trivial_multiplier_error)
+        .fold(0.0, f64::max);
+    let _ = writeln!(
+        s,
+        "  {} cycles; largest |trivial multiplier - 1| = {worst:.1e}; stopped: {}",
+        r.cycles.len(),
+        r.stop_reason
+    );
+    s
+}

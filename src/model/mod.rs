@@ -178,3 +178,32 @@ impl Wheelset {
             * (p.rolling_radius * p.half_contact_distance / self.centre_conicity()).sqrt()
     }
 }
+
+/// The wheelset as a vector field for the integrator and the continuation; the parameter is
+/// the speed V (m/s). The flange's dead-band edges are the switching surfaces, written with
+/// the same comparisons as [`flange_force`] so that the sign changes exactly where the force
+/// law switches branch.
+impl crate::system::ode::VectorField<4> for Wheelset {
+    fn rhs(&self, x: &Vector4<f64>, v: f64) -> Vector4<f64> {
+        self.rhs_vec(x, v)
+    }
+    fn jacobian(&self, x: &Vector4<f64>, v: f64) -> Matrix4<f64> {
+        Wheelset::jacobian(self, x, v).0
+    }
+    fn switch_count(&self) -> usize {
+        if self.flange.is_some() {
+            2
+        } else {
+            0
+        }
+    }
+    fn switch_value(&self, k: usize, x: &Vector4<f64>) -> f64 {
+        let c = self.flange.map_or(0.0, |f| f.clearance);
+        // k = 0: right flange (y > δ_f); k = 1: left flange (y < −δ_f)
+        if k == 0 {
+            x[0] - c
+        } else {
+            -x[0] - c
+        }
+    }
+}

@@ -132,3 +132,67 @@ pub fn write(dir: &Path, file: &str, bytes: &[u8]) -> std::io::Result<PathBuf> {
     std::fs::write(&path, bytes)?;
     Ok(path)
 }
+
+/// What the bifurcation outputs call the speeds they report.
+pub const NONLINEAR_KIND: &str = "nonlinear critical speed: the lowest speed at which a stable \
+hunting limit cycle exists (continuation of periodic orbits of the study's creep law)";
+
+/// The bifurcation results as one JSON object (`--json` and `bifurcation.json`).
+pub fn bifurcation_json(r: &crate::bifurcation::BifurcationReport) -> Value {
+    let special: Vec<Value> = r
+        .special
+        .iter()
+        .map(|s| {
+            json!({
+                "kind": s.kind.name(),
+                "speed_m_s": s.speed_m_s,
+                "amplitude_y_m": s.amplitude_y_m,
+                "located": s.located,
+            })
+        })
+        .collect();
+    let worst_trivial = r
+        .cycles
+        .iter()
+        .map(|c| c.trivial_multiplier_error)
+        .fold(0.0, f64::max);
+    json!({
+        "study": r.study,
+        "kind": NONLINEAR_KIND,
+        "creep_law": r.law.name(),
+        "speed_range_m_s": [r.speed_range.0, r.speed_range.1],
+        "kalker_critical_speed_m_s": r.kalker_critical_speed_m_s,
+        "hopf_speed_m_s": r.hopf.map(|h| h.speed_m_s),
+        "hopf_frequency_hz": r.hopf.map(|h| h.frequency_hz),
+        "hopf_type": r.hopf_type.map(|t| t.name()),
+        "nonlinear_critical_speed_m_s": r.nonlinear_critical_speed.map(|v| v.0),
+        "nonlinear_critical_speed_located": r.nonlinear_critical_speed.map(|v| v.1),
+        "special_points": special,
+        "stop_reason": r.stop_reason,
+        "cycles": r.cycles.len(),
+        "max_trivial_multiplier_error": worst_trivial,
+    })
+}
+
+/// `branch.csv`: one row per computed cycle.
+pub fn branch_csv(r: &crate::bifurcation::BifurcationReport) -> String {
+    let mut s = String::from(
+        "speed_m_s,amplitude_y_m,amplitude_psi_rad,period_s,frequency_hz,stable,\
+max_multiplier_abs,trivial_multiplier_error\n",
+    );
+    for c in &r.cycles {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{}",
+            c.speed_m_s,
+            c.amplitude_y_m,
+            c.amplitude_psi_rad,
+            c.period_s,
+            1.0 / c.period_s,
+            c.stable,
+            c.max_multiplier_abs,
+            c.trivial_multiplier_error
+        );
+    }
+    s
+}

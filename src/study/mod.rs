@@ -8,6 +8,7 @@ pub mod units;
 
 use std::path::Path;
 
+use crate::bifurcation::BifurcationOptions;
 use crate::contact::creep::CreepLaw;
 use crate::contact::geometry::{Geometry, Nominal};
 use crate::contact::kalker::CreepCoefficients;
@@ -93,6 +94,8 @@ pub struct Plan {
     pub linear: LinearOptions,
     /// speeds of the spectrum output (root locus, damping plot)
     pub spectrum_points: usize,
+    /// the `[bifurcation]` section, when the study has one
+    pub bifurcation: Option<BifurcationOptions>,
 }
 
 /// Reads and validates a study file.
@@ -263,6 +266,11 @@ fn plan(f: StudyFile) -> Result<Plan, StudyError> {
     };
     let contact = contact_plan(&f.contact, &wheelset, flange.as_ref())?;
     let (linear, spectrum_points) = linear_plan(f.linear.as_ref())?;
+    let bifurcation = f
+        .bifurcation
+        .as_ref()
+        .map(|b| bifurcation_plan(b, linear.speed_range))
+        .transpose()?;
     Ok(Plan {
         name: f.name,
         description: f.description.unwrap_or_default(),
@@ -272,7 +280,57 @@ fn plan(f: StudyFile) -> Result<Plan, StudyError> {
         flange,
         linear,
         spectrum_points,
+        bifurcation,
     })
+}
+
+fn rule(key: &str, value: impl std::fmt::Display, rule: &str) -> StudyError {
+    StudyError::Rule {
+        key: key.into(),
+        value: value.to_string(),
+        rule: rule.into(),
+    }
+}
+
+fn bifurcation_plan(
+    b: &schema::BifurcationSection,
+    linear_range: (f64, f64),
+) -> Result<BifurcationOptions, StudyError> {
+    let mut o = BifurcationOptions::new(linear_range);
+    if let Some([lo, hi]) = &b.speed_range {
+        let lo = positive("bifurcation.speed_range[0]", lo, Dimension::Speed)?;
+        let hi = positive("bifurcation.speed_range[1]", hi, Dimension::Speed)?;
+        if hi <= lo {
+            return Err(rule(
+                "bifurcation.speed_range",
+                format!("[{lo}, {hi}] m/s"),
+                "the maximum must exceed the minimum",
+            ));
+        }
+        o.speed_range = (lo, hi);
+    }
+    if let Some(q) = &b.max_amplitude {
+        o.max_amplitude = positive("bifurcation.max_amplitude", q, Dimension::Length)?;
+    }
+    if let Some(r) = b.rtol {
+        if !(1e-13..=1e-4).contains(&r) {
+            return Err(rule("bifurcation.rtol", r, "must lie in [1e-13, 1e-4]"));
+        }
+        o.rtol = r;
+    }
+    if let Some(d) = b.ds_max {
+        if !(d > 0.0 && d <= 10.0) {
+            return Err(rule("bifurcation.ds_max", d, "must lie in (0, 10]"));
+        }
+        o.ds_max = d;
+    }
+    if let Some(n) = b.max_points {
+        if !(2..=100_000).contains(&n) {
+            return Err(rule("bifurcation.max_points", n, "must lie in [2, 100000]"));
+        }
+        o.max_points = n;
+    }
+    Ok(o)
 }
 
 fn contact_plan(
@@ -460,6 +518,14 @@ fn linear_plan(l: Option<&schema::LinearSection>) -> Result<(LinearOptions, usiz
 }
 
 impl Plan {
+    /// The bifurcation options: the study's `[bifurcation]` section, or the defaults over the
+    /// linear speed range.
+    pub fn bifurcation_options(&self) -> BifurcationOptions {
+        self.bifurcation
+            .clone()
+            .unwrap_or_else(|| BifurcationOptions::new(self.linear.speed_range))
+    }
+
     /// The geometry table specification of this plan.
     pub fn table_spec(&self) -> TableSpec {
         TableSpec {

@@ -31,6 +31,8 @@ pub struct StudyFile {
     pub flange: Option<FlangeSection>,
     #[serde(default)]
     pub linear: Option<LinearSection>,
+    #[serde(default)]
+    pub bifurcation: Option<BifurcationSection>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -112,4 +114,19 @@ pub struct LinearSection {
     pub grid_points: Option<usize>,
     #[serde(default)]
     pub spectrum_points: Option<usize>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BifurcationSection {
+    #[serde(default)]
+    pub speed_range: Option<[Quantity; 2]>,
+    #[serde(default)]
+    pub max_amplitude: Option<Quantity>,
+    #[serde(default)]
+    pub rtol: Option<f64>,
+    #[serde(default)]
+    pub ds_max: Option<f64>,
+    #[serde(default)]
+    pub max_points: Option<usize>,
 }

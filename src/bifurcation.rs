@@ -1,0 +1,350 @@
+//! The nonlinear analysis of a study: the branch of hunting limit cycles from the Hopf point
+//! of the study's creep law, its stability, folds and the nonlinear critical speed (MODEL §9).
+//!
+//! This is the driver that joins the wheelset to the generic continuation: it finds the Hopf
+//! point and its eigenvector, chooses scales (1 mm of lateral amplitude ≈ 1 m/s of speed),
+//! measures amplitudes on each cycle, and turns the branch into plain result rows.
+
+use nalgebra::{DVector, SVector};
+
+use crate::contact::creep::CreepLaw;
+use crate::continuation::{
+    Branch, BranchStop, Continuation, ContinuationParams, OrbitPoint, Shooting, SpecialKind,
+};
+use crate::model::Wheelset;
+use crate::stability::{critical_speeds, spectrum_at, Crossing, LinearOptions, LinearSystem};
+use crate::system::ode::{integrate_to_section, OdeOptions, Tolerances};
+
+/// Options of the bifurcation analysis (study section `[bifurcation]`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BifurcationOptions {
+    /// speeds the branch may visit (m/s); default: the linear range
+    pub speed_range: (f64, f64),
+    /// largest lateral amplitude followed (m); default 20 mm
+    pub max_amplitude: f64,
+    /// integrator relative tolerance; default 1e-10 (atol = rtol × 1 mm)
+    pub rtol: f64,
+    /// largest continuation step (scaled: 1 ≈ 1 mm or 1 m/s); default 0.5
+    pub ds_max: f64,
+    /// most cycles computed; default 400
+    pub max_points: usize,
+}
+
+impl BifurcationOptions {
+    /// Defaults for a speed range.
+    pub fn new(speed_range: (f64, f64)) -> Self {
+        Self {
+            speed_range,
+            max_amplitude: 0.020,
+            rtol: 1e-10,
+            ds_max: 0.5,
+            max_points: 400,
+        }
+    }
+}
+
+/// Sub- or supercritical Hopf bifurcation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HopfType {
+    /// the cycle branch starts towards lower speeds, unstable
+    Subcritical,
+    /// the cycle branch starts towards higher speeds, stable
+    Supercritical,
+}
+
+impl HopfType {
+    /// `"subcritical"` or `"supercritical"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            HopfType::Subcritical => "subcritical",
+            HopfType::Supercritical => "supercritical",
+        }
+    }
+}
+
+/// One cycle of the branch, for output.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CycleRow {
+    /// speed (m/s)
+    pub speed_m_s: f64,
+    /// lateral amplitude max |y| (m)
+    pub amplitude_y_m: f64,
+    /// yaw amplitude max |ψ| (rad)
+    pub amplitude_psi_rad: f64,
+    /// period (s)
+    pub period_s: f64,
+    /// all nontrivial Floquet multipliers inside the unit circle
+    pub stable: bool,
+    /// largest modulus of the nontrivial multipliers
+    pub max_multiplier_abs: f64,
+    /// |trivial multiplier − 1|: the accuracy figure
+    pub trivial_multiplier_error: f64,
+}
+
+/// A special point of the branch, for output.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpecialRow {
+    /// kind
+    pub kind: SpecialKind,
+    /// speed (m/s)
+    pub speed_m_s: f64,
+    /// lateral amplitude (m)
+    pub amplitude_y_m: f64,
+    /// located to tolerance (true) or only bracketed
+    pub located: bool,
+}
+
+/// Everything the nonlinear analysis produces.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BifurcationReport {
+    /// study name
+    pub study: String,
+    /// the study's creep law
+    pub law: CreepLaw,
+    /// linear (Kalker) critical speed, if in range (m/s)
+    pub kalker_critical_speed_m_s: Option<f64>,
+    /// the Hopf point of the study's law where the branch starts
+    pub hopf: Option<Crossing>,
+    /// its type, from the branch's initial direction
+    pub hopf_type: Option<HopfType>,
+    /// lowest speed with a stable cycle (m/s), and whether it was located (a located fold or
+    /// the supercritical Hopf point) or is only the lowest stable computed cycle
+    pub nonlinear_critical_speed: Option<(f64, bool)>,
+    /// the cycles
+    pub cycles: Vec<CycleRow>,
+    /// special points
+    pub special: Vec<SpecialRow>,
+    /// why the branch ended, in words
+    pub stop_reason: String,
+    /// centred motion: speed ranges (m/s) where it is stable (Kalker model of the study law)
+    pub speed_range: (f64, f64),
+}
+
+fn ode_options(rtol: f64) -> Result<OdeOptions, String> {
+    let tol = Tolerances::new(rtol, rtol * 1e-3).map_err(|e| e.to_string())?;
+    Ok(OdeOptions {
+        tol,
+        ..OdeOptions::default()
+    })
+}
+
+/// Max of state component `k` over one period: the first crossing of ẋ_k from + to −.
+fn peak(model: &Wheelset, o: &OrbitPoint<4>, k: usize, ode: &OdeOptions) -> f64 {
+    let rate = k + 2;
+    let section = move |x: &SVector<f64, 4>| -x[rate];
+    match integrate_to_section(
+        model,
+        o.param,
+        &o.x0,
+        1.5 * o.period,
+        &section,
+        1e-9 * o.period,
+        ode,
+    ) {
+        Ok(Some(s)) => s.x[k].abs(),
+        _ => f64::NAN,
+    }
+}
+
+/// The Hopf crossing of `law` in the range, and the eigenvector of its critical pair
+/// normalised so that its y-component is 1.
+fn hopf_point(
+    model: &Wheelset,
+    range: (f64, f64),
+) -> Option<(Crossing, [nalgebra::Complex<f64>; 4])> {
+    let sys = LinearSystem::at_centre(model);
+    let opts = LinearOptions {
+        speed_range: range,
+        ..LinearOptions::default()
+    };
+    let found = critical_speeds(&sys, model.creep_law, &opts).ok()?;
+    let c = *found.critical()?;
+    let sp = spectrum_at(&sys.jacobian(c.speed_m_s), c.speed_m_s)?;
+    let omega = 2.0 * std::f64::consts::PI * c.frequency_hz;
+    let pair = sp.pairs.iter().min_by(|a, b| {
+        a.re.hypot(a.im - omega)
+            .total_cmp(&b.re.hypot(b.im - omega))
+    })?;
+    let q: [nalgebra::Complex<f64>; 4] =
+        std::array::from_fn(|i| nalgebra::Complex::new(pair.vector[i].0, pair.vector[i].1));
+    let qy = q[0];
+    if qy.norm() == 0.0 {
+        return None;
+    }
+    Some((c, q.map(|v| v / qy)))
+}
+
+/// Runs the bifurcation analysis of `model` (its own creep law).
+pub fn analyse(
+    study: &str,
+    model: &Wheelset,
+    opts: &BifurcationOptions,
+) -> Result<BifurcationReport, String> {
+    analyse_with_progress(study, model, opts, None)
+}
+
+/// [`analyse`], calling `progress(cycle index, speed m/s, amplitude m)` after each cycle.
+pub fn analyse_with_progress(
+    study: &str,
+    model: &Wheelset,
+    opts: &BifurcationOptions,
+    progress: Option<&(dyn Fn(usize, f64, f64) + Sync)>,
+) -> Result<BifurcationReport, String> {
+    let ode = ode_options(opts.rtol)?;
+    let kalker = model.with_law(CreepLaw::Kalker);
+    let kalker_critical_speed_m_s = critical_speeds(
+        &LinearSystem::at_centre(&kalker),
+        CreepLaw::Kalker,
+        &LinearOptions {
+            speed_range: opts.speed_range,
+            ..LinearOptions::default()
+        },
+    )
+    .ok()
+    .and_then(|c| c.critical().map(|x| x.speed_m_s));
+    let mut report = BifurcationReport {
+        study: study.to_string(),
+        law: model.creep_law,
+        kalker_critical_speed_m_s,
+        hopf: None,
+        hopf_type: None,
+        nonlinear_critical_speed: None,
+        cycles: Vec::new(),
+        special: Vec::new(),
+        stop_reason: String::new(),
+        speed_range: opts.speed_range,
+    };
+    let Some((hopf, q)) = hopf_point(model, opts.speed_range) else {
+        report.stop_reason = format!(
+            "no Hopf point of the {} model in [{}, {}] m/s: the centred motion does not lose stability there",
+            model.creep_law.name(),
+            opts.speed_range.0,
+            opts.speed_range.1
+        );
+        return Ok(report);
+    };
+    report.hopf = Some(hopf);
+    let omega = 2.0 * std::f64::consts::PI * hopf.frequency_hz;
+    let a_ref = 1e-3;
+    let psi_ratio = q[1].norm().max(1e-6);
+    let scale = vec![
+        a_ref,
+        a_ref * psi_ratio,
+        a_ref * omega,
+        a_ref * omega * psi_ratio,
+        1.0 / hopf.frequency_hz,
+        1.0,
+    ];
+    let mut params = ContinuationParams::new(opts.speed_range, opts.max_amplitude, scale.clone());
+    params.ds_initial = 0.1;
+    params.ds_max = opts.ds_max;
+    params.max_points = opts.max_points;
+    let amp_ode = ode.clone();
+    let amplitude = move |o: &OrbitPoint<4>| peak(model, o, 0, &amp_ode);
+    let counter = std::sync::atomic::AtomicUsize::new(0);
+    let report_point = |p: &crate::continuation::BranchPoint<4>| {
+        if let Some(f) = progress {
+            let k = counter.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            f(k, p.orbit.param, p.amplitude);
+        }
+    };
+    let cont = Continuation {
+        shooting: Shooting {
+            field: model,
+            symmetric: true,
+            ode: ode.clone(),
+            dp_rel: 1e-7,
+        },
+        params,
+        amplitude: &amplitude,
+        progress: Some(&report_point),
+    };
+    let start = OrbitPoint {
+        x0: SVector::zeros(),
+        period: 1.0 / hopf.frequency_hz,
+        param: hopf.speed_m_s,
+    };
+    let direction = DVector::from_fn(6, |i, _| {
+        if i < 4 {
+            a_ref * q[i].re / scale[i]
+        } else {
+            0.0
+        }
+    });
+    let branch = cont.run(start, direction);
+    fill(&mut report, &branch, model, &ode, omega);
+    Ok(report)
+}
+
+fn fill(
+    report: &mut BifurcationReport,
+    branch: &Branch<4>,
+    model: &Wheelset,
+    ode: &OdeOptions,
+    _omega: f64,
+) {
+    report.cycles = branch
+        .points
+        .iter()
+        .map(|p| CycleRow {
+            speed_m_s: p.orbit.param,
+            amplitude_y_m: p.amplitude,
+            amplitude_psi_rad: peak(model, &p.orbit, 1, ode),
+            period_s: p.orbit.period,
+            stable: p.floquet.stable(),
+            max_multiplier_abs: p.floquet.max_nontrivial,
+            trivial_multiplier_error: p.floquet.trivial_error,
+        })
+        .collect();
+    report.special = branch
+        .special
+        .iter()
+        .map(|s| SpecialRow {
+            kind: s.kind,
+            speed_m_s: s.orbit.param,
+            amplitude_y_m: s.amplitude,
+            located: s.located,
+        })
+        .collect();
+    report.stop_reason = match branch.stop {
+        BranchStop::ParamBound { param } => format!("speed bound reached ({param:.4} m/s)"),
+        BranchStop::AmplitudeBound { amplitude } => {
+            format!("amplitude bound reached ({:.3} mm)", amplitude * 1e3)
+        }
+        BranchStop::MaxPoints => format!("step limit reached ({} cycles)", branch.points.len()),
+        BranchStop::StepTooSmall { param, newton } => {
+            format!("step too small at {param:.4} m/s (Newton: {newton:?})")
+        }
+    };
+    let hopf_speed = report.hopf.map(|h| h.speed_m_s);
+    report.hopf_type = match (hopf_speed, report.cycles.first()) {
+        (Some(v), Some(c)) if c.speed_m_s < v => Some(HopfType::Subcritical),
+        (Some(_), Some(_)) => Some(HopfType::Supercritical),
+        _ => None,
+    };
+    report.nonlinear_critical_speed = nonlinear_critical_speed(report);
+}
+
+/// MODEL §9: the lowest speed at which a stable cycle exists: the supercritical Hopf speed, a
+/// located fold next to a stable stretch, or else the lowest stable computed cycle.
+fn nonlinear_critical_speed(r: &BifurcationReport) -> Option<(f64, bool)> {
+    if r.hopf_type == Some(HopfType::Supercritical) && r.cycles.first().is_some_and(|c| c.stable) {
+        return r.hopf.map(|h| (h.speed_m_s, true));
+    }
+    let folds = r
+        .special
+        .iter()
+        .filter(|s| s.kind == SpecialKind::Fold)
+        .map(|s| (s.speed_m_s, s.located));
+    let stable = r
+        .cycles
+        .iter()
+        .filter(|c| c.stable)
+        .map(|c| (c.speed_m_s, false));
+    let lowest_stable = stable.clone().map(|s| s.0).fold(f64::INFINITY, f64::min);
+    // a fold counts when it lies at (or below) the lowest stable cycle: the stable part turns there
+    folds
+        .filter(|(v, _)| *v <= lowest_stable + 1e-9 * lowest_stable.abs().max(1.0))
+        .chain(stable)
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+}

@@ -1,0 +1,471 @@
+//! Pseudo-arclength continuation of periodic orbits in (x0, T, p).
+//!
+//! Predictor: a step `ds` along the unit tangent (in scaled coordinates `z/scale`).
+//! Corrector: Newton on the shooting residual, the phase condition through the predicted
+//! point, and the arclength condition $⟨τ, (z − z_{pred})/s⟩ = 0$ (Keller 1977). The tangent of
+//! the accepted point solves the bordered system with the old tangent as last row, so it is
+//! oriented consistently; it passes through folds (where dp/ds changes sign) and vertical
+//! stretches (dp/ds ≈ 0) alike. Step control by the Newton iteration count, with an angle
+//! guard between consecutive tangents. Special points are found by sign changes along the
+//! branch and located by the Illinois method on the arclength from the last point.
+
+use nalgebra::{DMatrix, DVector, SVector};
+
+use super::orbit::{solve_dense, Floquet, NewtonStop, OrbitPoint, Shooting};
+use crate::system::ode::VectorField;
+
+/// Continuation settings. Defaults are for orbits scaled to O(1) by `scale`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContinuationParams {
+    /// first step (scaled units); default 0.05
+    pub ds_initial: f64,
+    /// smallest step before giving up; default 1e-6
+    pub ds_min: f64,
+    /// largest step; default 0.5
+    pub ds_max: f64,
+    /// accepted points at most; default 300
+    pub max_points: usize,
+    /// Newton tolerance on the scaled update; default 1e-9
+    pub newton_tol: f64,
+    /// Newton iterations at most; default 8
+    pub newton_max_iter: usize,
+    /// the iteration count the step control aims at; default 3
+    pub target_iterations: usize,
+    /// largest angle between consecutive tangents (rad); default 0.3
+    pub max_angle: f64,
+    /// parameter bounds
+    pub param_range: (f64, f64),
+    /// amplitude bound (units of the caller's amplitude measure)
+    pub max_amplitude: f64,
+    /// scale of each unknown (x0 components, T, p): the arclength is measured in z/scale
+    pub scale: Vec<f64>,
+    /// relative tolerance of located special points, on the arclength
+    pub locate_tol: f64,
+}
+
+impl ContinuationParams {
+    /// Defaults with the given bounds and scales.
+    pub fn new(param_range: (f64, f64), max_amplitude: f64, scale: Vec<f64>) -> Self {
+        Self {
+            ds_initial: 0.05,
+            ds_min: 1e-6,
+            ds_max: 0.5,
+            max_points: 300,
+            newton_tol: 1e-9,
+            newton_max_iter: 8,
+            target_iterations: 3,
+            max_angle: 0.3,
+            param_range,
+            max_amplitude,
+            scale,
+            locate_tol: 1e-9,
+        }
+    }
+}
+
+/// Why the branch ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BranchStop {
+    /// the parameter left its range at this value
+    ParamBound { param: f64 },
+    /// the amplitude exceeded its bound
+    AmplitudeBound { amplitude: f64 },
+    /// `max_points` were computed
+    MaxPoints,
+    /// the step fell below `ds_min` without a converged corrector
+    StepTooSmall { param: f64, newton: NewtonStop },
+}
+
+/// One accepted orbit of the branch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BranchPoint<const N: usize> {
+    /// the orbit
+    pub orbit: OrbitPoint<N>,
+    /// its multipliers
+    pub floquet: Floquet,
+    /// the caller's amplitude measure
+    pub amplitude: f64,
+    /// unit tangent (scaled)
+    pub tangent: DVector<f64>,
+    /// Newton iterations used
+    pub newton_iterations: usize,
+}
+
+/// Kinds of special points on a branch of cycles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpecialKind {
+    /// fold (saddle-node) of cycles: dp/ds = 0
+    Fold,
+    /// a real multiplier passes −1
+    PeriodDoubling,
+    /// symmetric orbit: a half-period multiplier ν passes −1 (μ = +1 without a fold)
+    SymmetryBreaking,
+    /// a complex pair of multipliers leaves the unit circle (Neimark–Sacker)
+    Torus,
+}
+
+impl SpecialKind {
+    /// Name as written in outputs.
+    pub fn name(self) -> &'static str {
+        match self {
+            SpecialKind::Fold => "fold",
+            SpecialKind::PeriodDoubling => "period_doubling",
+            SpecialKind::SymmetryBreaking => "symmetry_breaking",
+            SpecialKind::Torus => "torus",
+        }
+    }
+}
+
+/// A special point between accepted points `after` and `after + 1`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpecialPoint<const N: usize> {
+    /// kind
+    pub kind: SpecialKind,
+    /// index of the accepted point before it
+    pub after: usize,
+    /// the located (or best bracketing) orbit
+    pub orbit: OrbitPoint<N>,
+    /// amplitude there
+    pub amplitude: f64,
+    /// whether it was located to `locate_tol`, or only bracketed
+    pub located: bool,
+    /// width of the final arclength bracket (scaled)
+    pub bracket: f64,
+}
+
+/// A computed branch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Branch<const N: usize> {
+    /// accepted orbits in order
+    pub points: Vec<BranchPoint<N>>,
+    /// special points in order
+    pub special: Vec<SpecialPoint<N>>,
+    /// why it ended
+    pub stop: BranchStop,
+}
+
+/// The corrector's result.
+struct Corrected<const N: usize> {
+    orbit: OrbitPoint<N>,
+    floquet: Floquet,
+    tangent: DVector<f64>,
+    iterations: usize,
+}
+
+fn pack<const N: usize>(z: &OrbitPoint<N>) -> DVector<f64> {
+    DVector::from_fn(N + 2, |i, _| match i {
+        i if i < N => z.x0[i],
+        i if i == N => z.period,
+        _ => z.param,
+    })
+}
+
+fn unpack<const N: usize>(v: &DVector<f64>) -> OrbitPoint<N> {
+    OrbitPoint {
+        x0: SVector::from_fn(|i, _| v[i]),
+        period: v[N],
+        param: v[N + 1],
+    }
+}
+
+/// The continuation driver: a shooting problem plus settings and an amplitude measure.
+pub struct Continuation<'a, const N: usize, F: VectorField<N>> {
+    /// the shooting problem
+    pub shooting: Shooting<'a, N, F>,
+    /// settings
+    pub params: ContinuationParams,
+    /// the amplitude of an orbit (e.g. max |y| over a period)
+    pub amplitude: &'a (dyn Fn(&OrbitPoint<N>) -> f64 + Sync),
+    /// called with each accepted orbit (progress reporting); `None` for silence
+    pub progress: Option<&'a (dyn Fn(&BranchPoint<N>) + Sync)>,
+}
+
+impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
+    fn scale(&self) -> DVector<f64> {
+        DVector::from_fn(N + 2, |i, _| {
+            self.params.scale.get(i).copied().unwrap_or(1.0)
+        })
+    }
+
+    /// Newton from the prediction `zp` with the arclength row `tangent` (scaled).
+    fn correct(
+        &self,
+        zp: &DVector<f64>,
+        tangent: &DVector<f64>,
+    ) -> Result<Corrected<N>, NewtonStop> {
+        let s = self.scale();
+        let xr: SVector<f64, N> = SVector::from_fn(|i, _| zp[i]);
+        let fr = self.shooting.field.rhs(&xr, zp[N + 1]);
+        let mut z = zp.clone();
+        for it in 1..=self.params.newton_max_iter {
+            let lin = self
+                .shooting
+                .linearise(&unpack::<N>(&z))
+                .map_err(|_| NewtonStop::Diverged)?;
+            let mut a = DMatrix::zeros(N + 2, N + 2);
+            a.view_mut((0, 0), (N, N + 2)).copy_from(&lin.jacobian);
+            let mut b = DVector::zeros(N + 2);
+            for i in 0..N {
+                a[(N, i)] = fr[i];
+                b[i] = -lin.residual[i];
+            }
+            b[N] = -(0..N).map(|i| fr[i] * (z[i] - xr[i])).sum::<f64>();
+            for i in 0..N + 2 {
+                a[(N + 1, i)] = tangent[i] / s[i];
+            }
+            b[N + 1] = -(0..N + 2)
+                .map(|i| tangent[i] * (z[i] - zp[i]) / s[i])
+                .sum::<f64>();
+            let delta = solve_dense(a.clone(), b).ok_or(NewtonStop::Singular)?;
+            z += &delta;
+            let size = delta
+                .iter()
+                .zip(s.iter())
+                .map(|(d, sc)| (d / sc).abs())
+                .fold(0.0, f64::max);
+            if !size.is_finite() {
+                return Err(NewtonStop::Diverged);
+            }
+            if size <= self.params.newton_tol {
+                // New tangent: the same bordered matrix with the old tangent as last row.
+                let mut e = DVector::zeros(N + 2);
+                e[N + 1] = 1.0;
+                let mut t = solve_dense(a, e).ok_or(NewtonStop::Singular)?;
+                for i in 0..N + 2 {
+                    t[i] /= s[i];
+                }
+                let n = t.norm();
+                if !(n > 0.0 && n.is_finite()) {
+                    return Err(NewtonStop::Singular);
+                }
+                t /= n;
+                if t.dot(tangent) < 0.0 {
+                    t = -t;
+                }
+                return Ok(Corrected {
+                    orbit: unpack(&z),
+                    floquet: Floquet::from_monodromy(&lin.monodromy, self.shooting.symmetric),
+                    tangent: t,
+                    iterations: it,
+                });
+            }
+        }
+        Err(NewtonStop::MaxIterations)
+    }
+
+    fn predict(&self, from: &DVector<f64>, tangent: &DVector<f64>, ds: f64) -> DVector<f64> {
+        let s = self.scale();
+        DVector::from_fn(N + 2, |i, _| from[i] + ds * tangent[i] * s[i])
+    }
+
+    /// Continues from `start` (need not be an orbit: the Hopf point with x0 = 0 serves)
+    /// along the scaled direction `direction`.
+    pub fn run(&self, start: OrbitPoint<N>, direction: DVector<f64>) -> Branch<N> {
+        let p = &self.params;
+        let mut z = pack(&start);
+        let mut tangent = direction.normalize();
+        let mut ds = p.ds_initial;
+        let mut points: Vec<BranchPoint<N>> = Vec::new();
+        let mut special = Vec::new();
+        let mut last_failure = NewtonStop::Converged;
+        let stop = loop {
+            if points.len() >= p.max_points {
+                break BranchStop::MaxPoints;
+            }
+            if ds < p.ds_min {
+                break BranchStop::StepTooSmall {
+                    param: z[N + 1],
+                    newton: last_failure,
+                };
+            }
+            let zp = self.predict(&z, &tangent, ds);
+            let c = match self.correct(&zp, &tangent) {
+                Ok(c) if c.tangent.dot(&tangent) >= p.max_angle.cos() || points.is_empty() => c,
+                Ok(_) => {
+                    ds *= 0.5;
+                    continue;
+                }
+                Err(e) => {
+                    last_failure = e;
+                    ds *= 0.5;
+                    continue;
+                }
+            };
+            let amplitude = (self.amplitude)(&c.orbit);
+            let point = BranchPoint {
+                orbit: c.orbit,
+                floquet: c.floquet,
+                amplitude,
+                tangent: c.tangent.clone(),
+                newton_iterations: c.iterations,
+            };
+            if let Some(prev) = points.last() {
+                self.detect(prev, &point, points.len() - 1, ds, &mut special);
+            }
+            let param = point.orbit.param;
+            if let Some(report) = self.progress {
+                report(&point);
+            }
+            points.push(point);
+            z = pack(&c.orbit);
+            tangent = c.tangent;
+            // step control: aim at the target iteration count
+            let factor = match c.iterations.cmp(&p.target_iterations) {
+                std::cmp::Ordering::Less => 1.6,
+                std::cmp::Ordering::Equal => 1.0,
+                std::cmp::Ordering::Greater => 0.6,
+            };
+            ds = (ds * factor).min(p.ds_max);
+            if param < p.param_range.0 || param > p.param_range.1 {
+                break BranchStop::ParamBound { param };
+            }
+            if amplitude > p.max_amplitude {
+                break BranchStop::AmplitudeBound { amplitude };
+            }
+        };
+        Branch {
+            points,
+            special,
+            stop,
+        }
+    }
+
+    /// Sign changes between consecutive points, each located along the arclength.
+    fn detect(
+        &self,
+        a: &BranchPoint<N>,
+        b: &BranchPoint<N>,
+        index: usize,
+        ds: f64,
+        out: &mut Vec<SpecialPoint<N>>,
+    ) {
+        let fold = |q: &Corrected<N>| q.tangent[N + 1];
+        if a.tangent[N + 1].signum() != b.tangent[N + 1].signum() {
+            out.push(self.locate(a, index, ds, SpecialKind::Fold, &fold));
+        }
+        let crossing = |f: &Floquet| f.max_nontrivial - 1.0;
+        if crossing(&a.floquet).signum() != crossing(&b.floquet).signum() {
+            let kind = classify(&a.floquet, &b.floquet, self.shooting.symmetric);
+            // A fold also moves a multiplier through 1: do not report it twice.
+            let near_fold = out
+                .last()
+                .is_some_and(|s| s.after == index && s.kind == SpecialKind::Fold);
+            if let Some(kind) = kind.filter(|_| !near_fold) {
+                let g = |q: &Corrected<N>| q.floquet.max_nontrivial - 1.0;
+                out.push(self.locate(a, index, ds, kind, &g));
+            }
+        }
+    }
+
+    /// Illinois on the arclength s ∈ (0, ds) from point `a` for a sign change of `g`.
+    fn locate(
+        &self,
+        a: &BranchPoint<N>,
+        index: usize,
+        ds: f64,
+        kind: SpecialKind,
+        g: &dyn Fn(&Corrected<N>) -> f64,
+    ) -> SpecialPoint<N> {
+        let za = pack(&a.orbit);
+        let eval = |s: f64| {
+            let zp = self.predict(&za, &a.tangent, s);
+            self.correct(&zp, &a.tangent).ok()
+        };
+        let a_c = Corrected {
+            orbit: a.orbit,
+            floquet: a.floquet.clone(),
+            tangent: a.tangent.clone(),
+            iterations: 0,
+        };
+        let (mut lo, mut glo) = (0.0, g(&a_c));
+        let Some(end) = eval(ds) else {
+            return self.bracketed(kind, index, a, ds);
+        };
+        let (mut hi, mut ghi) = (ds, g(&end));
+        let mut best = end;
+        let mut side = 0i8;
+        for _ in 0..60 {
+            if (hi - lo).abs() <= self.params.locate_tol * ds.max(1.0) {
+                break;
+            }
+            let s = (lo * ghi - hi * glo) / (ghi - glo);
+            let s = if s.is_finite() && s > lo && s < hi {
+                s
+            } else {
+                0.5 * (lo + hi)
+            };
+            let Some(c) = eval(s) else { break };
+            let gs = g(&c);
+            if gs.signum() == glo.signum() {
+                (lo, glo) = (s, gs);
+                if side == -1 {
+                    ghi *= 0.5;
+                }
+                side = -1;
+            } else {
+                (hi, ghi) = (s, gs);
+                if side == 1 {
+                    glo *= 0.5;
+                }
+                side = 1;
+            }
+            best = c;
+        }
+        let bracket = (hi - lo).abs();
+        SpecialPoint {
+            kind,
+            after: index,
+            amplitude: (self.amplitude)(&best.orbit),
+            orbit: best.orbit,
+            located: bracket <= self.params.locate_tol * ds.max(1.0),
+            bracket,
+        }
+    }
+
+    fn bracketed(
+        &self,
+        kind: SpecialKind,
+        index: usize,
+        a: &BranchPoint<N>,
+        ds: f64,
+    ) -> SpecialPoint<N> {
+        SpecialPoint {
+            kind,
+            after: index,
+            orbit: a.orbit,
+            amplitude: a.amplitude,
+            located: false,
+            bracket: ds,
+        }
+    }
+}
+
+/// What kind of multiplier left (or entered) the unit circle between two orbits.
+fn classify(a: &Floquet, b: &Floquet, symmetric: bool) -> Option<SpecialKind> {
+    // the orbit whose largest nontrivial multiplier is outside the circle
+    let outside = if a.max_nontrivial > b.max_nontrivial {
+        a
+    } else {
+        b
+    };
+    let (k, mu) = outside
+        .multipliers
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| m.norm() > 1.0 && (*m - 1.0).norm() > outside.trivial_error.max(1e-6))
+        .max_by(|x, y| x.1.norm().total_cmp(&y.1.norm()))?;
+    if mu.im.abs() > 1e-6 * mu.norm() {
+        return Some(SpecialKind::Torus);
+    }
+    if mu.re < 0.0 {
+        return Some(SpecialKind::PeriodDoubling);
+    }
+    if symmetric {
+        if let Some(nu) = outside.half.as_ref().and_then(|h| h.get(k)) {
+            if nu.re < 0.0 {
+                return Some(SpecialKind::SymmetryBreaking);
+            }
+        }
+    }
+    Some(SpecialKind::Fold)
+}

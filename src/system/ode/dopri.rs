@@ -1,0 +1,315 @@
+//! One Dormand–Prince 5(4) step on the augmented system $(x, \Phi)$, its error estimate, its
+//! continuous extension, and the step-size controller.
+//!
+//! Tableau: J. R. Dormand & P. J. Prince, "A family of embedded Runge–Kutta formulae",
+//! J. Comput. Appl. Math. 6 (1980) 19–26; as printed in Hairer, Nørsett & Wanner, *Solving
+//! Ordinary Differential Equations I* (2nd ed.), §II.5, Table 5.2. Dense output: Shampine
+//! (1986), HNW I §II.6 (the `CONTD5` of Hairer's DOPRI5). Controller: DOPRI5's PI controller
+//! (see [`Controller`]).
+//!
+//! The field is autonomous, so the nodes $c_i$ never enter a stage (only the tests use them).
+
+use nalgebra::{SMatrix, SVector};
+
+use super::{Tolerances, VectorField};
+
+/// Stage coefficients $a_{ij}$, row $i$ = stage $i + 2$. Row 6 (stage 7) equals $b$: the
+/// method is FSAL, the 7th stage is $f$ at the new point.
+const A: [[f64; 6]; 6] = [
+    [1.0 / 5.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
+    [
+        19372.0 / 6561.0,
+        -25360.0 / 2187.0,
+        64448.0 / 6561.0,
+        -212.0 / 729.0,
+        0.0,
+        0.0,
+    ],
+    [
+        9017.0 / 3168.0,
+        -355.0 / 33.0,
+        46732.0 / 5247.0,
+        49.0 / 176.0,
+        -5103.0 / 18656.0,
+        0.0,
+    ],
+    [
+        35.0 / 384.0,
+        0.0,
+        500.0 / 1113.0,
+        125.0 / 192.0,
+        -2187.0 / 6784.0,
+        11.0 / 84.0,
+    ],
+];
+
+/// Nodes $c_i$ (only used to check the order conditions).
+#[cfg(test)]
+pub(super) const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
+#[cfg(test)]
+pub(super) const TABLEAU: [[f64; 6]; 6] = A;
+
+/// $e_i = b_i - \hat b_i$: the difference between the 5th- and the embedded 4th-order weights.
+pub(super) const E: [f64; 7] = [
+    71.0 / 57600.0,
+    0.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
+    -1.0 / 40.0,
+];
+
+/// Shampine's dense-output coefficients $d_i$ (HNW I, §II.6).
+const D: [f64; 7] = [
+    -12715105075.0 / 11282082432.0,
+    0.0,
+    87487479700.0 / 32700410799.0,
+    -10690763975.0 / 1880347072.0,
+    701980252875.0 / 199316789632.0,
+    -1453857185.0 / 822651844.0,
+    69997945.0 / 29380423.0,
+];
+
+/// A point of the trajectory with the (augmented) field there, kept so that the next step can
+/// reuse it as its first stage (FSAL): $f = f(x)$, $f_\Phi = J(x)\,\Phi$.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Point<const N: usize> {
+    pub t: f64,
+    pub x: SVector<f64, N>,
+    pub phi: SMatrix<f64, N, N>,
+    pub f: SVector<f64, N>,
+    pub f_phi: SMatrix<f64, N, N>,
+}
+
+/// A trial step: the candidate end point, its scaled error, and the stages of $x$ (needed only
+/// if a continuous extension is asked for).
+pub(super) struct Trial<const N: usize> {
+    pub end: Point<N>,
+    pub err: f64,
+    k: [SVector<f64, N>; 7],
+}
+
+/// The method bound to a field: the parameter, whether $\Phi$ rides along, the tolerances, and
+/// the count of field evaluations.
+pub(super) struct Rk<'a, const N: usize, F> {
+    pub field: &'a F,
+    pub p: f64,
+    pub variational: bool,
+    pub tol: Tolerances,
+    pub rhs_evals: usize,
+}
+
+/// $s = y + h\sum_j a_j k_j$, written as a plain loop over a fixed-size matrix: no temporaries.
+#[inline(always)]
+fn combine<const R: usize, const CC: usize>(
+    y: &SMatrix<f64, R, CC>,
+    h: f64,
+    a: &[f64],
+    k: &[SMatrix<f64, R, CC>],
+) -> SMatrix<f64, R, CC> {
+    let mut s = *y;
+    for (aj, kj) in a.iter().zip(k) {
+        let c = h * aj;
+        for (si, ki) in s.iter_mut().zip(kj.iter()) {
+            *si += c * ki;
+        }
+    }
+    s
+}
+
+/// RMS of $e_i / (\mathrm{atol} + \mathrm{rtol}\max(|y_{0,i}|, |y_{1,i}|))$ (HNW I, (4.11)).
+fn scaled_rms<const R: usize, const CC: usize>(
+    e: &SMatrix<f64, R, CC>,
+    y0: &SMatrix<f64, R, CC>,
+    y1: &SMatrix<f64, R, CC>,
+    tol: &Tolerances,
+) -> f64 {
+    let mut sum = 0.0;
+    for ((ei, a), b) in e.iter().zip(y0.iter()).zip(y1.iter()) {
+        let r = ei / (tol.atol + tol.rtol * a.abs().max(b.abs()));
+        sum += r * r;
+    }
+    (sum / (R * CC) as f64).sqrt()
+}
+
+impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
+    /// The augmented field at $(x, \Phi)$; $J$ is only evaluated when $\Phi$ rides along.
+    #[inline(always)]
+    fn eval(
+        &mut self,
+        x: &SVector<f64, N>,
+        phi: &SMatrix<f64, N, N>,
+    ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
+        self.rhs_evals += 1;
+        let fx = self.field.rhs(x, self.p);
+        let f_phi = if self.variational {
+            self.field.jacobian(x, self.p) * phi
+        } else {
+            SMatrix::zeros()
+        };
+        (fx, f_phi)
+    }
+
+    /// A point with its field evaluated (the start of the integration).
+    pub fn point(&mut self, t: f64, x: SVector<f64, N>, phi: SMatrix<f64, N, N>) -> Point<N> {
+        let (f, f_phi) = self.eval(&x, &phi);
+        Point {
+            t,
+            x,
+            phi,
+            f,
+            f_phi,
+        }
+    }
+
+    /// One step of size `h` from `p0` (6 new evaluations thanks to FSAL). The error is
+    /// $\max(\|e_x\|, \|e_\Phi\|)$ with the scaled RMS norm of each block: taking the max rather
+    /// than one RMS over all $N + N^2$ components means switching the monodromy on never
+    /// loosens the control of the state (the $N^2$ entries of $\Phi$ would otherwise dilute it),
+    /// and $\Phi$ gets the same relative accuracy as $x$ — which is what Floquet multipliers
+    /// accurate to ~1e-9 need.
+    pub fn step(&mut self, p0: &Point<N>, h: f64) -> Trial<N> {
+        let mut k = [SVector::<f64, N>::zeros(); 7];
+        let mut kp = [SMatrix::<f64, N, N>::zeros(); 7];
+        k[0] = p0.f;
+        kp[0] = p0.f_phi;
+        let (mut x1, mut phi1) = (p0.x, p0.phi);
+        for s in 1..7 {
+            let a = &A[s - 1][..s];
+            let xs = combine(&p0.x, h, a, &k[..s]);
+            let phis = if self.variational {
+                combine(&p0.phi, h, a, &kp[..s])
+            } else {
+                p0.phi
+            };
+            (k[s], kp[s]) = self.eval(&xs, &phis);
+            (x1, phi1) = (xs, phis);
+        }
+        let ex = combine(&SVector::zeros(), h, &E, &k);
+        let mut err = scaled_rms(&ex, &p0.x, &x1, &self.tol);
+        if self.variational {
+            let ep = combine(&SMatrix::zeros(), h, &E, &kp);
+            err = err.max(scaled_rms(&ep, &p0.phi, &phi1, &self.tol));
+        }
+        let end = Point {
+            t: p0.t + h,
+            x: x1,
+            phi: phi1,
+            f: k[6],
+            f_phi: kp[6],
+        };
+        Trial { end, err, k }
+    }
+
+    /// Starting step size, HNW I §II.4 ("Starting step size", the `HINIT` of DOPRI5), on the
+    /// state only: $h_0 = 0.01\|x_0\|/\|f_0\|$, one Euler step for a second-derivative
+    /// estimate, $h_1 = (0.01/\max(\|f'\|, \|f_0\|))^{1/5}$, $h = \min(100h_0, h_1, h_{\max})$.
+    pub fn initial_step(&mut self, p0: &Point<N>, h_max: f64) -> f64 {
+        let sk = p0.x.map(|v| self.tol.atol + self.tol.rtol * v.abs());
+        let rms = |v: &SVector<f64, N>| (v.component_div(&sk).norm_squared() / N as f64).sqrt();
+        let (dy, df) = (rms(&p0.x), rms(&p0.f));
+        let h0 = if dy <= 1e-10 || df <= 1e-10 {
+            1e-6
+        } else {
+            0.01 * dy / df
+        }
+        .min(h_max);
+        let x1 = p0.x + p0.f * h0;
+        self.rhs_evals += 1;
+        let f1 = self.field.rhs(&x1, self.p);
+        let d2 = rms(&(f1 - p0.f)) / h0;
+        let d12 = d2.max(df);
+        let h1 = if d12 <= 1e-15 {
+            (h0 * 1e-3).max(1e-6)
+        } else {
+            (0.01 / d12).powf(0.2)
+        };
+        let h = (100.0 * h0).min(h1).min(h_max);
+        // A NaN here (non-finite field) is caught by the first step's error test.
+        if h.is_finite() && h > 0.0 {
+            h
+        } else {
+            h0
+        }
+    }
+}
+
+/// Shampine's 4th-order continuous extension of one step,
+/// $x(t_0 + \theta h) = r_0 + \theta\,(r_1 + (1-\theta)(r_2 + \theta\,(r_3 + (1-\theta)\,r_4)))$,
+/// $\theta \in [0, 1]$, with $r_0 = x_0$, $r_1 = x_1 - x_0$, $r_2 = h k_1 - r_1$,
+/// $r_3 = r_1 - h k_7 - r_2$, $r_4 = h\sum_i d_i k_i$. It matches $x_0, x_1, f_0, f_1$
+/// (so it is $C^1$ across steps) and has local error $O(h^5)$.
+pub(super) struct Dense<const N: usize> {
+    t0: f64,
+    h: f64,
+    r: [SVector<f64, N>; 5],
+}
+
+impl<const N: usize> Dense<N> {
+    pub fn new(p0: &Point<N>, trial: &Trial<N>) -> Self {
+        let h = trial.end.t - p0.t;
+        let r1 = trial.end.x - p0.x;
+        let r2 = trial.k[0] * h - r1;
+        let r3 = r1 - trial.k[6] * h - r2;
+        let r4 = combine(&SVector::zeros(), h, &D, &trial.k);
+        Dense {
+            t0: p0.t,
+            h,
+            r: [p0.x, r1, r2, r3, r4],
+        }
+    }
+
+    /// The state at time `t` (within the step).
+    pub fn eval(&self, t: f64) -> SVector<f64, N> {
+        let th = (t - self.t0) / self.h;
+        let th1 = 1.0 - th;
+        let [r0, r1, r2, r3, r4] = &self.r;
+        r0 + (r1 + (r2 + (r3 + r4 * th1) * th) * th1) * th
+    }
+}
+
+/// The PI step-size controller of Hairer & Wanner's DOPRI5 (HNW I §II.4 for the I-part;
+/// the PI form after Gustafsson, Lundh & Söderlind, BIT 28 (1988), as in HNW II §IV.2):
+/// $h_{new} = h \cdot \mathrm{clamp}(0.9\,\mathrm{err}_n^{-\alpha}\,\mathrm{err}_{n-1}^{\beta},
+/// 1/5, 10)$ with $\beta = 0.04$, $\alpha = 1/5 - 0.75\beta$ (DOPRI5's defaults). The
+/// $\beta$ term damps the oscillation of $h$ a pure I-controller shows when stability, not
+/// accuracy, limits the step. After a rejection the next step may not grow.
+pub(super) struct Controller {
+    /// $\ln \max(\mathrm{err}_{n-1}, 10^{-4})$: with logarithms the factor costs one `ln`
+    /// and one `exp` instead of two `powf`, which were a quarter of a step on small systems.
+    ln_err_old: f64,
+}
+
+const SAFETY: f64 = 0.9;
+const BETA: f64 = 0.04;
+const ALPHA: f64 = 0.2 - 0.75 * BETA;
+/// Largest shrink (1/5) and growth (10) of one step: HNW's defaults.
+pub(super) const FAC_MIN: f64 = 0.2;
+const FAC_MAX: f64 = 10.0;
+/// DOPRI5's floor on the remembered error (and its initial value).
+const ERR_OLD_MIN: f64 = 1e-4;
+
+impl Controller {
+    pub fn new() -> Self {
+        Controller {
+            ln_err_old: ERR_OLD_MIN.ln(),
+        }
+    }
+
+    /// Factor for the next step after an accepted one (err <= 1).
+    pub fn accepted(&mut self, err: f64) -> f64 {
+        // err = 0 gives ln = -inf, a factor of +inf, which the clamp turns into growth 10.
+        let ln_err = err.ln();
+        let fac = SAFETY * (BETA * self.ln_err_old - ALPHA * ln_err).exp();
+        self.ln_err_old = ln_err.max(ERR_OLD_MIN.ln());
+        fac.clamp(FAC_MIN, FAC_MAX)
+    }
+
+    /// Factor for retrying a rejected step (err > 1): the I-part only, never growing.
+    pub fn rejected(&self, err: f64) -> f64 {
+        (SAFETY * err.powf(-ALPHA)).max(FAC_MIN)
+    }
+}

@@ -1,0 +1,295 @@
+//! The integration loop (step, error test, switching surfaces, end time) and the public entry
+//! points built on it; they differ only in what they do after each accepted step.
+
+use std::ops::ControlFlow;
+
+use nalgebra::{SMatrix, SVector};
+
+use super::dopri::{Controller, Dense, Point, Rk, Trial, FAC_MIN};
+use super::events::{brent, land_on, Switches};
+use super::{OdeError, OdeOptions, Solution, Stats, StopReason, VectorField};
+
+/// The loop's result: the solution, the last step size (for [`OdeError::StepSizeTooSmall`]),
+/// and whether the per-step hook ended the run.
+pub(super) struct Run<const N: usize> {
+    pub sol: Solution<N>,
+    pub h: f64,
+    pub hooked: bool,
+}
+
+/// All of the point finite: a NaN or infinity anywhere makes the sum non-finite (a sum of
+/// finite entries could only overflow beyond 1e308, which is a blow-up too). Cheaper than
+/// testing each entry.
+fn finite<const N: usize>(p: &Point<N>) -> bool {
+    (p.x.sum() + p.f.sum() + p.phi.sum() + p.f_phi.sum()).is_finite()
+}
+
+fn check_interval(t_end: f64) -> Result<(), OdeError> {
+    if t_end.is_finite() && t_end > 0.0 {
+        Ok(())
+    } else {
+        Err(OdeError::BadInterval { t_end })
+    }
+}
+
+/// Integrates from $t = 0$ to `t_end`, calling `hook(rk, start, trial)` after every accepted
+/// step; a `Break(point)` ends the run at that point. Numerical failures end the run with a
+/// [`StopReason`]; only invalid arguments are errors here.
+pub(super) fn run<const N: usize, F, H>(
+    field: &F,
+    p: f64,
+    x0: &SVector<f64, N>,
+    t_end: f64,
+    opts: &OdeOptions,
+    mut hook: H,
+) -> Result<Run<N>, OdeError>
+where
+    F: VectorField<N>,
+    H: FnMut(&mut Rk<'_, N, F>, &Point<N>, &Trial<N>) -> ControlFlow<Point<N>>,
+{
+    opts.validate()?;
+    check_interval(t_end)?;
+    if !x0.iter().all(|v| v.is_finite()) {
+        return Err(OdeError::NonFinite { t: 0.0 });
+    }
+    let mut rk = Rk {
+        field,
+        p,
+        variational: opts.monodromy,
+        tol: opts.tol,
+        rhs_evals: 0,
+    };
+    let mut cur = rk.point(0.0, *x0, SMatrix::identity());
+    let mut switches = Switches::new(field, x0);
+    let mut ctrl = Controller::new();
+    let mut stats = Stats::default();
+    let mut h = match opts.h_initial {
+        Some(h) => h,
+        None => rk.initial_step(&cur, opts.h_max),
+    }
+    .min(opts.h_max);
+    let (mut after_reject, mut non_finite, mut hooked) = (false, false, false);
+    let stop = if !finite(&cur) {
+        StopReason::NonFinite
+    } else {
+        loop {
+            if cur.t >= t_end {
+                break StopReason::Reached;
+            }
+            if stats.steps + stats.rejected >= opts.max_steps {
+                break StopReason::MaxSteps;
+            }
+            // Below 16 ulps of t a step no longer changes t meaningfully.
+            if h < 16.0 * f64::EPSILON * cur.t.abs().max(f64::EPSILON * t_end) {
+                break if non_finite {
+                    StopReason::NonFinite
+                } else {
+                    StopReason::StepTooSmall
+                };
+            }
+            // Land on t_end exactly (not t + h, with its round-off); stretch the step by up
+            // to 1% (within h_max) rather than leave a sliver of a last step.
+            let rest = t_end - cur.t;
+            let (h_try, target) = if cur.t + 1.01 * h >= t_end && rest <= opts.h_max {
+                (rest, t_end)
+            } else {
+                (h, cur.t + h)
+            };
+            let mut trial = rk.step(&cur, h_try);
+            trial.end.t = target;
+            let (trial, shortened) = switches.settle(&mut rk, &cur, trial);
+            non_finite = !(trial.err.is_finite() && finite(&trial.end));
+            if non_finite || trial.err > 1.0 {
+                // A non-finite result is often an overshoot into a region where the field
+                // overflows: retried smaller like a failed error test.
+                let fac = if non_finite {
+                    FAC_MIN
+                } else {
+                    ctrl.rejected(trial.err)
+                };
+                (h, after_reject) = ((trial.end.t - cur.t) * fac, true);
+                stats.rejected += 1;
+                continue;
+            }
+            stats.steps += 1;
+            stats.events += switches.commit(field, &trial.end.x);
+            // A step shortened to a surface keeps the h of the step it was cut from: its
+            // small error says nothing about the step after.
+            if !shortened {
+                let fac = ctrl.accepted(trial.err);
+                h = h_try * if after_reject { fac.min(1.0) } else { fac };
+            }
+            h = h.min(opts.h_max);
+            after_reject = false;
+            if let ControlFlow::Break(end) = hook(&mut rk, &cur, &trial) {
+                (cur, hooked) = (end, true);
+                break StopReason::Reached;
+            }
+            cur = trial.end;
+        }
+    };
+    stats.rhs_evals = rk.rhs_evals;
+    let monodromy = opts.monodromy.then_some(cur.phi);
+    let sol = Solution {
+        t: cur.t,
+        x: cur.x,
+        monodromy,
+        stats,
+        stop,
+    };
+    Ok(Run { sol, h, hooked })
+}
+
+/// A run that did not reach its end becomes the matching error.
+fn checked<const N: usize>(run: Run<N>) -> Result<Solution<N>, OdeError> {
+    let Run { sol, h, .. } = run;
+    let t = sol.t;
+    match sol.stop {
+        StopReason::Reached => Ok(sol),
+        StopReason::MaxSteps => Err(OdeError::MaxSteps {
+            t,
+            steps: sol.stats.steps + sol.stats.rejected,
+        }),
+        StopReason::StepTooSmall => Err(OdeError::StepSizeTooSmall { t, h }),
+        StopReason::NonFinite => Err(OdeError::NonFinite { t }),
+    }
+}
+
+/// Integrates $\dot x = f(x; p)$ from $x_0$ at $t = 0$ to `t_end > 0`. With
+/// `opts.monodromy` also returns $\Phi(t_{end}) = \partial x(t_{end}) / \partial x_0$, from
+/// $\dot\Phi = J(x(t))\,\Phi$, $\Phi(0) = I$. Failing to reach `t_end` is an error.
+pub fn integrate<const N: usize, F: VectorField<N>>(
+    f: &F,
+    p: f64,
+    x0: &SVector<f64, N>,
+    t_end: f64,
+    opts: &OdeOptions,
+) -> Result<Solution<N>, OdeError> {
+    checked(run(f, p, x0, t_end, opts, |_, _, _| {
+        ControlFlow::Continue(())
+    })?)
+}
+
+/// As [`integrate`], but a numerical failure (step limit, vanishing step, NaN) is an outcome,
+/// not an error: the last accepted state is returned with its [`StopReason`] (a wheelset that
+/// runs away in a sweep is a result). Invalid arguments are still errors.
+pub fn integrate_partial<const N: usize, F: VectorField<N>>(
+    f: &F,
+    p: f64,
+    x0: &SVector<f64, N>,
+    t_end: f64,
+    opts: &OdeOptions,
+) -> Result<Solution<N>, OdeError> {
+    Ok(run(f, p, x0, t_end, opts, |_, _, _| ControlFlow::Continue(()))?.sol)
+}
+
+/// As [`integrate`], calling `observer(t, &x)` at each sample time (sorted ascending, within
+/// $[0, t_{end}]$; a sample at a step end gets that step's state, others the step's
+/// 4th-order continuous extension, whose error is of the order of the local error the
+/// tolerances control). On failure the samples before it have been delivered.
+pub fn integrate_observed<const N: usize, F: VectorField<N>>(
+    f: &F,
+    p: f64,
+    x0: &SVector<f64, N>,
+    t_end: f64,
+    opts: &OdeOptions,
+    samples: &[f64],
+    observer: &mut dyn FnMut(f64, &SVector<f64, N>),
+) -> Result<Solution<N>, OdeError> {
+    check_interval(t_end)?;
+    let mut prev = 0.0;
+    for &ts in samples {
+        if ts.is_nan() || ts < prev || ts > t_end {
+            let rule = "samples must be sorted ascending within [0, t_end]";
+            return Err(OdeError::BadArgument {
+                name: "sample time",
+                value: ts,
+                rule,
+            });
+        }
+        prev = ts;
+    }
+    let mut next = 0;
+    let run = run(f, p, x0, t_end, opts, |_, start, trial| {
+        let mut dense = None;
+        while let Some(&ts) = samples.get(next).filter(|&&ts| ts <= trial.end.t) {
+            if ts >= trial.end.t {
+                observer(ts, &trial.end.x);
+            } else if ts <= start.t {
+                observer(ts, &start.x);
+            } else {
+                observer(
+                    ts,
+                    &dense
+                        .get_or_insert_with(|| Dense::new(start, trial))
+                        .eval(ts),
+                );
+            }
+            next += 1;
+        }
+        ControlFlow::Continue(())
+    })?;
+    checked(run)
+}
+
+/// Integrates until the first upward crossing of the section $s(x) = 0$ ($s$ from negative to
+/// non-negative) at a time after `min_time` (time units of the field), at most to `t_max`;
+/// `Ok(None)` if there is none. The crossing is located like a switching surface: Brent's
+/// method on the step's dense output gives a guess, then an Illinois iteration on re-taken
+/// steps ends a genuine RK step on the section (a few ulps of $t$ past it), so the time is as
+/// accurate as the integration itself rather than the 4th-order dense output.
+///
+/// The monodromy returned is $\Phi(t_c)$, the sensitivity of the flow at the fixed time $t_c$:
+/// the projection $(I - f\,\nabla s^{\mathsf T}/(\nabla s\cdot f))\,\Phi$ that turns it
+/// into the Jacobian of the Poincaré map is *not* applied (the shooting code owns it).
+pub fn integrate_to_section<const N: usize, F: VectorField<N>>(
+    f: &F,
+    p: f64,
+    x0: &SVector<f64, N>,
+    t_max: f64,
+    section: &dyn Fn(&SVector<f64, N>) -> f64,
+    min_time: f64,
+    opts: &OdeOptions,
+) -> Result<Option<Solution<N>>, OdeError> {
+    if !min_time.is_finite() || min_time < 0.0 {
+        let rule = "must be finite and >= 0";
+        return Err(OdeError::BadArgument {
+            name: "min_time",
+            value: min_time,
+            rule,
+        });
+    }
+    let mut s_prev = section(x0);
+    let run = run(f, p, x0, t_max, opts, |rk, start, trial| {
+        let (s0, s1) = (s_prev, section(&trial.end.x));
+        s_prev = s1;
+        let t1 = trial.end.t;
+        if t1 <= min_time || s1.is_nan() || s1 < 0.0 {
+            return ControlFlow::Continue(());
+        }
+        let dense = Dense::new(start, trial);
+        let (a, sa) = if start.t >= min_time {
+            (start.t, s0)
+        } else {
+            (min_time, section(&dense.eval(min_time)))
+        };
+        if sa.is_nan() || sa >= 0.0 {
+            return ControlFlow::Continue(());
+        }
+        if s1 <= 0.0 {
+            return ControlFlow::Break(trial.end);
+        }
+        let tc = brent(
+            &mut |t| section(&dense.eval(t)),
+            a,
+            t1,
+            sa,
+            s1,
+            4.0 * f64::EPSILON * t1.abs(),
+        );
+        let (t0, h) = (start.t, t1 - start.t);
+        ControlFlow::Break(land_on(rk, start, section, (a - t0, sa), (h, s1), tc - t0).end)
+    })?;
+    let hooked = run.hooked;
+    Ok(hooked.then_some(checked(run)?))
+}
