@@ -79,6 +79,11 @@ pub struct CycleRow {
     pub max_multiplier_abs: f64,
     /// |trivial multiplier − 1|: the accuracy figure
     pub trivial_multiplier_error: f64,
+    /// Newton iterations of the corrector (solver statistic)
+    pub newton_iterations: usize,
+    /// the cycle's start state (y m, ψ rad, ẏ m/s, ψ̇ rad/s): integrating from it at this
+    /// speed reproduces the cycle
+    pub x0: [f64; 4],
 }
 
 /// A special point of the branch, for output.
@@ -253,7 +258,7 @@ pub fn analyse_with_progress(
             field: model,
             symmetric: true,
             ode: ode.clone(),
-            dp_rel: 1e-7,
+            dp_rel: opts.rtol.sqrt(),
         },
         params,
         amplitude: &amplitude,
@@ -294,6 +299,8 @@ fn fill(
             stable: p.floquet.stable(),
             max_multiplier_abs: p.floquet.max_nontrivial,
             trivial_multiplier_error: p.floquet.trivial_error,
+            newton_iterations: p.newton_iterations,
+            x0: [p.orbit.x0[0], p.orbit.x0[1], p.orbit.x0[2], p.orbit.x0[3]],
         })
         .collect();
     report.special = branch

@@ -296,3 +296,28 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> Result<String, 
     }
     render_svg(&fig, 1000, 650)
 }
+
+/// `simulate.svg`: y(t) and ψ(t) for each speed, and the y–ẏ phase portrait.
+pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> Result<String, PlotError> {
+    let mut y = figure(
+        &format!("{study}: lateral displacement"),
+        "time t (s)",
+        "y (mm)",
+    );
+    let mut psi = figure("yaw angle", "time t (s)", "ψ (mrad)");
+    let mut phase = figure("phase portrait", "y (mm)", "dy/dt (mm/s)");
+    for h in runs {
+        let name = format!("{:.1} m/s", h.speed_m_s);
+        let pts = |k: usize, scale: f64| -> Vec<(f64, f64)> {
+            h.t.iter().zip(&h.x).map(|(t, x)| (*t, x[k] * scale)).collect()
+        };
+        y.series.push(line(&name, pts(0, 1e3), false));
+        psi.series.push(line(&name, pts(1, 1e3), false));
+        phase.series.push(line(
+            &name,
+            h.x.iter().map(|x| (x[0] * 1e3, x[2] * 1e3)).collect(),
+            false,
+        ));
+    }
+    render_grid(&[y, psi, phase], 1, 1100, 1300)
+}

@@ -36,7 +36,7 @@ fn continuation<'a>(
             field,
             symmetric,
             ode: ode(1e-12),
-            dp_rel: 1e-7,
+            dp_rel: 1e-6,
         },
         params,
         amplitude: &radius,
@@ -136,6 +136,7 @@ fn results_converge_as_tolerances_tighten() {
     for rtol in [1e-6, 1e-8, 1e-10] {
         let mut c = continuation(&field, (-1.0, 1.0), 1.1, true);
         c.shooting.ode = ode(rtol);
+        c.shooting.dp_rel = rtol.sqrt();
         let (start, dir) = from_hopf(&field);
         let branch = c.run(start, dir);
         let fold = branch

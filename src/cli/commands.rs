@@ -10,6 +10,7 @@ use crate::bifurcation::BifurcationReport;
 use crate::figures;
 use crate::model::Wheelset;
 use crate::output;
+use crate::study::units::{parse_quantity, Dimension};
 use crate::study::{self, Plan};
 
 fn user<E: Into<anyhow::Error>>(e: E) -> Failure {
@@ -49,6 +50,35 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
                 print!("{}", table::bifurcation(&report));
             }
             Ok(())
+        }
+        Command::Simulate {
+            study,
+            speed,
+            y0,
+            duration,
+            dt,
+        } => {
+            let plan = load(study)?;
+            let speeds = speed
+                .iter()
+                .map(|v| argument("--speed", v, Dimension::Speed))
+                .collect::<Result<Vec<_>, _>>()?;
+            let y0 = argument("--y0", y0, Dimension::Length)?;
+            let duration = argument("--duration", duration, Dimension::Time)?;
+            let dt = argument("--dt", dt, Dimension::Time)?;
+            if speeds.iter().any(|v| *v <= 0.0) || duration <= 0.0 || dt <= 0.0 || dt > duration {
+                return Err(user(anyhow!(
+                    "speeds and --duration must be positive and 0 < --dt <= --duration"
+                )));
+            }
+            if duration / dt > 5e6 {
+                return Err(user(anyhow!(
+                    "--duration / --dt = {:.0} samples per speed; at most 5e6",
+                    duration / dt
+                )));
+            }
+            let model = build(&plan)?;
+            simulate(&plan, &model, &cli.out, &speeds, y0, duration, dt)
         }
         Command::Geometry { study } => {
             let plan = load(study)?;
@@ -149,6 +179,51 @@ fn bifurcation(plan: &Plan, model: &Wheelset, root: &Path) -> Result<Bifurcation
     let svg = figures::bifurcation(&report).map_err(|e| compute(anyhow!(e)))?;
     write(&dir, "bifurcation.svg", svg.as_bytes())?;
     Ok(report)
+}
+
+/// A command-line quantity: a plain number (SI) or a number with a unit.
+fn argument(flag: &str, text: &str, dim: Dimension) -> Result<f64, Failure> {
+    if let Ok(v) = text.trim().parse::<f64>() {
+        if v.is_finite() {
+            return Ok(v);
+        }
+    }
+    parse_quantity(text, dim).map_err(|p| {
+        user(anyhow!(
+            "{flag} {text:?}: {p}; expected a {dim} in SI ({}) or with one of the units {}",
+            dim.si_unit(),
+            dim.accepted()
+        ))
+    })
+}
+
+fn simulate(
+    plan: &Plan,
+    model: &Wheelset,
+    root: &Path,
+    speeds: &[f64],
+    y0: f64,
+    duration: f64,
+    dt: f64,
+) -> Result<(), Failure> {
+    let ode = crate::system::ode::OdeOptions {
+        tol: crate::system::ode::Tolerances::new(1e-9, 1e-12).map_err(compute)?,
+        ..Default::default()
+    };
+    let mut runs = Vec::new();
+    for &v in speeds {
+        eprintln!("simulating '{}' at {v} m/s for {duration} s from y(0) = {} mm", plan.name, y0 * 1e3);
+        let h = crate::simulate::simulate(model, v, [y0, 0.0, 0.0, 0.0], duration, dt, &ode)
+            .with_context(|| format!("time simulation at {v} m/s"))
+            .map_err(compute)?;
+        runs.push(h);
+    }
+    let dir = out_dir(root, plan)?;
+    write(&dir, "simulate.csv", output::simulate_csv(&runs).as_bytes())?;
+    let svg = figures::simulate(&plan.name, &runs).map_err(|e| compute(anyhow!(e)))?;
+    write(&dir, "simulate.svg", svg.as_bytes())?;
+    print!("{}", table::simulate(&plan.name, &runs));
+    Ok(())
 }
 
 fn geometry(plan: &Plan, model: &Wheelset, root: &Path) -> Result<GeometryReport, Failure> {

@@ -47,6 +47,24 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Time simulation at one or more constant speeds from an initial lateral displacement
+    /// (the seed's Figs. 10-11): time-history CSV and SVG (y, yaw, phase portrait).
+    Simulate {
+        /// Study file (TOML).
+        study: PathBuf,
+        /// Speed(s), comma-separated or repeated, with a unit or in m/s: --speed 10,30,40
+        #[arg(long, value_delimiter = ',', required = true)]
+        speed: Vec<String>,
+        /// Initial lateral displacement y(0).
+        #[arg(long, default_value = "5 mm")]
+        y0: String,
+        /// Simulated time.
+        #[arg(long, default_value = "30 s")]
+        duration: String,
+        /// Output sample interval.
+        #[arg(long, default_value = "2 ms")]
+        dt: String,
+    },
     /// The contact geometry table (rolling radii, contact angles, roll, Hertz patch, creep
     /// coefficients against lateral displacement) as CSV and SVG.
     Geometry {

@@ -294,3 +294,28 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> String {
     );
     s
 }
+
+/// Summary of time simulations: amplitude early and late, and whether the motion grew.
+pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> String {
+    let mut s = format!("\nstudy '{study}': time simulation (lateral amplitude max|y|)\n");
+    for h in runs {
+        let n = h.x.len();
+        let first = h.x[..n / 10 + 1].iter().map(|x| x[0].abs()).fold(0.0, f64::max);
+        let last = h.final_amplitude(0.1);
+        let verdict = if last > first * 1.05 {
+            "grows (hunting)"
+        } else if last < first * 0.95 {
+            "decays"
+        } else {
+            "steady"
+        };
+        let _ = writeln!(
+            s,
+            "  V = {:8.3} m/s: first 10 % {:8.4} mm, last 10 % {:8.4} mm: {verdict}",
+            h.speed_m_s,
+            first * 1e3,
+            last * 1e3
+        );
+    }
+    s
+}

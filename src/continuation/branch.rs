@@ -253,6 +253,15 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         Err(NewtonStop::MaxIterations)
     }
 
+    /// Newton at a fixed parameter from `guess` (the arclength row pins p): one periodic
+    /// orbit solve. Returns the orbit, its multipliers and the iterations used.
+    pub fn solve_at(&self, guess: OrbitPoint<N>) -> Result<(OrbitPoint<N>, Floquet, usize), NewtonStop> {
+        let mut pin = DVector::zeros(N + 2);
+        pin[N + 1] = 1.0;
+        let c = self.correct(&pack(&guess), &pin)?;
+        Ok((c.orbit, c.floquet, c.iterations))
+    }
+
     fn predict(&self, from: &DVector<f64>, tangent: &DVector<f64>, ds: f64) -> DVector<f64> {
         let s = self.scale();
         DVector::from_fn(N + 2, |i, _| from[i] + ds * tangent[i] * s[i])
@@ -309,10 +318,12 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             points.push(point);
             z = pack(&c.orbit);
             tangent = c.tangent;
-            // step control: aim at the target iteration count
+            // Step control: aim at the target iteration count. Newton from a good predictor
+            // often takes the same count over a wide range of steps, so at the target the step
+            // still grows a little; the angle guard and ds_max bound it.
             let factor = match c.iterations.cmp(&p.target_iterations) {
                 std::cmp::Ordering::Less => 1.6,
-                std::cmp::Ordering::Equal => 1.0,
+                std::cmp::Ordering::Equal => 1.25,
                 std::cmp::Ordering::Greater => 0.6,
             };
             ds = (ds * factor).min(p.ds_max);

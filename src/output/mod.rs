@@ -178,12 +178,13 @@ pub fn bifurcation_json(r: &crate::bifurcation::BifurcationReport) -> Value {
 pub fn branch_csv(r: &crate::bifurcation::BifurcationReport) -> String {
     let mut s = String::from(
         "speed_m_s,amplitude_y_m,amplitude_psi_rad,period_s,frequency_hz,stable,\
-max_multiplier_abs,trivial_multiplier_error\n",
+max_multiplier_abs,trivial_multiplier_error,newton_iterations,y0_m,psi0_rad,ydot0_m_s,\
+psidot0_rad_s\n",
     );
     for c in &r.cycles {
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
             c.speed_m_s,
             c.amplitude_y_m,
             c.amplitude_psi_rad,
@@ -191,8 +192,28 @@ max_multiplier_abs,trivial_multiplier_error\n",
             1.0 / c.period_s,
             c.stable,
             c.max_multiplier_abs,
-            c.trivial_multiplier_error
+            c.trivial_multiplier_error,
+            c.newton_iterations,
+            c.x0[0],
+            c.x0[1],
+            c.x0[2],
+            c.x0[3]
         );
+    }
+    s
+}
+
+/// `simulate.csv`: the time histories, one block per speed.
+pub fn simulate_csv(runs: &[crate::simulate::TimeHistory]) -> String {
+    let mut s = String::from("speed_m_s,time_s,y_m,psi_rad,ydot_m_s,psidot_rad_s\n");
+    for h in runs {
+        for (t, x) in h.t.iter().zip(&h.x) {
+            let _ = writeln!(
+                s,
+                "{},{t},{},{},{},{}",
+                h.speed_m_s, x[0], x[1], x[2], x[3]
+            );
+        }
     }
     s
 }
