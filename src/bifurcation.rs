@@ -244,6 +244,8 @@ pub fn analyse_with_progress(
     params.ds_initial = 0.1;
     params.ds_max = opts.ds_max;
     params.max_points = opts.max_points;
+    // Newton cannot converge below the integration noise: tie its tolerance to rtol.
+    params.newton_tol = (10.0 * opts.rtol).max(1e-10);
     let amp_ode = ode.clone();
     let amplitude = move |o: &OrbitPoint<4>| peak(model, o, 0, &amp_ode);
     let counter = std::sync::atomic::AtomicUsize::new(0);

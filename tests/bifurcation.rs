@@ -1,0 +1,128 @@
+//! The wheelset's hunting branch: identities every computed cycle must satisfy (it is a
+//! periodic orbit, symmetric, with a trivial multiplier at 1), the supercritical start at the
+//! Hopf point of the creep law's own Jacobian, located folds, and convergence of the results
+//! as the integrator tolerance tightens.
+
+use critspeed::bifurcation::{analyse, BifurcationOptions, HopfType};
+use critspeed::continuation::SpecialKind;
+use critspeed::study;
+use critspeed::system::ode::{integrate, OdeOptions, Tolerances};
+use nalgebra::SVector;
+
+fn load(name: &str) -> (study::Plan, critspeed::model::Wheelset) {
+    let path = format!("{}/studies/{name}", env!("CARGO_MANIFEST_DIR"));
+    let plan = study::load(std::path::Path::new(&path)).expect("study loads");
+    let model = plan.model().expect("model builds");
+    (plan, model)
+}
+
+fn tight() -> OdeOptions {
+    OdeOptions {
+        tol: Tolerances::new(1e-12, 1e-15).expect("valid"),
+        ..OdeOptions::default()
+    }
+}
+
+/// Every cycle, integrated independently over a full and a half period at a tighter
+/// tolerance, returns to its start (periodic) and to minus its start at T/2 (symmetric).
+#[test]
+fn cycles_are_periodic_and_symmetric() {
+    let (plan, model) = load("flange-hysteresis.toml");
+    let r = analyse(&plan.name, &model, &plan.bifurcation_options()).expect("analysis runs");
+    assert!(r.cycles.len() > 20, "{}", r.stop_reason);
+    for c in r.cycles.iter().step_by(7) {
+        let x0 = SVector::<f64, 4>::from(c.x0);
+        let full = integrate(&model, c.speed_m_s, &x0, c.period_s, &tight()).expect("integrates");
+        let half =
+            integrate(&model, c.speed_m_s, &x0, 0.5 * c.period_s, &tight()).expect("integrates");
+        // each component against its own amplitude (y, ψ, and ω times those for the rates)
+        let omega = 2.0 * std::f64::consts::PI / c.period_s;
+        let scale = [
+            c.amplitude_y_m,
+            c.amplitude_psi_rad,
+            omega * c.amplitude_y_m,
+            omega * c.amplitude_psi_rad,
+        ];
+        for k in 0..4 {
+            let tol = 1e-7 * scale[k];
+            let (p, sym) = ((full.x[k] - x0[k]).abs(), (half.x[k] + x0[k]).abs());
+            assert!(
+                p <= tol,
+                "periodic: V={} k={k}: {p:e} > {tol:e}",
+                c.speed_m_s
+            );
+            assert!(
+                sym <= tol,
+                "symmetric: V={} k={k}: {sym:e} > {tol:e}",
+                c.speed_m_s
+            );
+        }
+        assert!(
+            c.trivial_multiplier_error < 1e-6,
+            "{}",
+            c.trivial_multiplier_error
+        );
+    }
+}
+
+#[test]
+fn supercritical_branch_starts_at_the_creep_law_hopf_point() {
+    let (plan, model) = load("seed-hunting.toml");
+    let mut opts = BifurcationOptions::new((60.0, 100.0));
+    opts.max_amplitude = 0.008;
+    let r = analyse(&plan.name, &model, &opts).expect("analysis runs");
+    let hopf = r.hopf.expect("a Hopf point in range");
+    assert_eq!(r.hopf_type, Some(HopfType::Supercritical));
+    // MODEL §9: supercritical, so V_NL = V_H, and it is a located value
+    let (vnl, located) = r.nonlinear_critical_speed.expect("V_NL");
+    assert!(located && (vnl - hopf.speed_m_s).abs() < 1e-9 * vnl);
+    // the first cycles are small, near V_H, at the Hopf frequency
+    let first = r.cycles.first().expect("cycles");
+    assert!(first.amplitude_y_m < 2e-4);
+    assert!((first.speed_m_s - hopf.speed_m_s).abs() < 0.01 * hopf.speed_m_s);
+    assert!((1.0 / first.period_s - hopf.frequency_hz).abs() < 1e-3 * hopf.frequency_hz);
+    // the Shen branch is not Kalker's: its Hopf speed differs from V_L (MODEL §5)
+    let vl = r.kalker_critical_speed_m_s.expect("V_L in range");
+    assert!((hopf.speed_m_s - vl).abs() > 1e-3 * vl);
+    // amplitude grows with speed along a supercritical branch without flange
+    assert!(r
+        .cycles
+        .windows(2)
+        .all(|w| w[1].amplitude_y_m > w[0].amplitude_y_m));
+    assert!(r.cycles.iter().all(|c| c.stable));
+}
+
+/// The folds of the flange study converge as the integrator tolerance tightens; the table is
+/// printed (cargo test -- --nocapture shows it).
+#[test]
+fn folds_converge_as_tolerances_tighten() {
+    let (plan, model) = load("flange-hysteresis.toml");
+    let mut rows = Vec::new();
+    for rtol in [1e-7, 1e-8, 1e-9, 1e-10, 1e-11] {
+        let mut opts = plan.bifurcation_options();
+        opts.rtol = rtol;
+        let r = analyse(&plan.name, &model, &opts).expect("analysis runs");
+        let folds: Vec<f64> = r
+            .special
+            .iter()
+            .filter(|s| s.kind == SpecialKind::Fold && s.located)
+            .map(|s| s.speed_m_s)
+            .collect();
+        assert_eq!(folds.len(), 2, "rtol {rtol}: {:?}", r.special);
+        rows.push((rtol, folds[0], folds[1]));
+    }
+    eprintln!("rtol       fold 1 (m/s)        fold 2 (m/s)");
+    for (rtol, a, b) in &rows {
+        eprintln!("{rtol:<10.0e} {a:<19.12} {b:<19.12}");
+    }
+    let best = rows[rows.len() - 1];
+    let err: Vec<f64> = rows
+        .iter()
+        .map(|r| (r.1 - best.1).abs().max((r.2 - best.2).abs()))
+        .collect();
+    // differences from the tightest run shrink, and are small at 1e-10
+    assert!(err[0] >= err[3], "{err:?}");
+    assert!(err[3] < 1e-6 * best.1, "{err:?}");
+    // a hysteresis loop: the first fold turns the branch back, the second forward again
+    assert!(best.1 > best.2);
+}
