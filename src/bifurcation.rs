@@ -133,6 +133,44 @@ fn ode_options(rtol: f64) -> Result<OdeOptions, String> {
     })
 }
 
+/// One periodic-orbit solve: the symmetric hunting cycle of `model` at `speed` (m/s), by
+/// Newton from a guess of its start state and period (e.g. a neighbouring branch cycle, or a
+/// settled simulation). Returns the cycle, its Floquet multipliers and the iterations used.
+pub fn cycle_at(
+    model: &Wheelset,
+    speed: f64,
+    x0: [f64; 4],
+    period: f64,
+    rtol: f64,
+) -> Result<(OrbitPoint<4>, crate::continuation::Floquet, usize), String> {
+    let ode = ode_options(rtol)?;
+    let amplitude = |_: &OrbitPoint<4>| 0.0;
+    let mut params = ContinuationParams::new(
+        (0.0, f64::INFINITY),
+        f64::INFINITY,
+        vec![1e-3, 1e-3, 1e-2, 1e-2, period, 1.0],
+    );
+    params.newton_tol = (10.0 * rtol).max(1e-10);
+    params.newton_max_iter = 20;
+    let c = Continuation {
+        shooting: Shooting {
+            field: model,
+            symmetric: true,
+            ode,
+            dp_rel: rtol.sqrt(),
+        },
+        params,
+        amplitude: &amplitude,
+        progress: None,
+    };
+    c.solve_at(OrbitPoint {
+        x0: SVector::from(x0),
+        period,
+        param: speed,
+    })
+    .map_err(|e| format!("no cycle found at {speed} m/s: Newton stopped with {e:?}"))
+}
+
 /// Max of state component `k` over one period: the first crossing of ẋ_k from + to −.
 fn peak(model: &Wheelset, o: &OrbitPoint<4>, k: usize, ode: &OdeOptions) -> f64 {
     let rate = k + 2;

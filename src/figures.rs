@@ -309,7 +309,10 @@ pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> Result<St
     for h in runs {
         let name = format!("{:.1} m/s", h.speed_m_s);
         let pts = |k: usize, scale: f64| -> Vec<(f64, f64)> {
-            h.t.iter().zip(&h.x).map(|(t, x)| (*t, x[k] * scale)).collect()
+            h.t.iter()
+                .zip(&h.x)
+                .map(|(t, x)| (*t, x[k] * scale))
+                .collect()
         };
         y.series.push(line(&name, pts(0, 1e3), false));
         psi.series.push(line(&name, pts(1, 1e3), false));

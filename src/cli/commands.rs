@@ -212,7 +212,11 @@ fn simulate(
     };
     let mut runs = Vec::new();
     for &v in speeds {
-        eprintln!("simulating '{}' at {v} m/s for {duration} s from y(0) = {} mm", plan.name, y0 * 1e3);
+        eprintln!(
+            "simulating '{}' at {v} m/s for {duration} s from y(0) = {} mm",
+            plan.name,
+            y0 * 1e3
+        );
         let h = crate::simulate::simulate(model, v, [y0, 0.0, 0.0, 0.0], duration, dt, &ode)
             .with_context(|| format!("time simulation at {v} m/s"))
             .map_err(compute)?;

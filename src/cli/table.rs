@@ -300,7 +300,10 @@ pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> String {
     let mut s = format!("\nstudy '{study}': time simulation (lateral amplitude max|y|)\n");
     for h in runs {
         let n = h.x.len();
-        let first = h.x[..n / 10 + 1].iter().map(|x| x[0].abs()).fold(0.0, f64::max);
+        let first = h.x[..n / 10 + 1]
+            .iter()
+            .map(|x| x[0].abs())
+            .fold(0.0, f64::max);
         let last = h.final_amplitude(0.1);
         let verdict = if last > first * 1.05 {
             "grows (hunting)"

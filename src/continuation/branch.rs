@@ -255,7 +255,10 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
 
     /// Newton at a fixed parameter from `guess` (the arclength row pins p): one periodic
     /// orbit solve. Returns the orbit, its multipliers and the iterations used.
-    pub fn solve_at(&self, guess: OrbitPoint<N>) -> Result<(OrbitPoint<N>, Floquet, usize), NewtonStop> {
+    pub fn solve_at(
+        &self,
+        guess: OrbitPoint<N>,
+    ) -> Result<(OrbitPoint<N>, Floquet, usize), NewtonStop> {
         let mut pin = DVector::zeros(N + 2);
         pin[N + 1] = 1.0;
         let c = self.correct(&pack(&guess), &pin)?;

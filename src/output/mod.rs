@@ -208,11 +208,7 @@ pub fn simulate_csv(runs: &[crate::simulate::TimeHistory]) -> String {
     let mut s = String::from("speed_m_s,time_s,y_m,psi_rad,ydot_m_s,psidot_rad_s\n");
     for h in runs {
         for (t, x) in h.t.iter().zip(&h.x) {
-            let _ = writeln!(
-                s,
-                "{},{t},{},{},{},{}",
-                h.speed_m_s, x[0], x[1], x[2], x[3]
-            );
+            let _ = writeln!(s, "{},{t},{},{},{},{}", h.speed_m_s, x[0], x[1], x[2], x[3]);
         }
     }
     s

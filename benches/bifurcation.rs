@@ -1,0 +1,43 @@
+//! Benches of the nonlinear analysis on `studies/flange-hysteresis.toml`:
+//! * `periodic_orbit_solve`: one cycle by Newton from a neighbouring cycle (speed +0.1 %);
+//! * `bifurcation_diagram`: the whole branch, Hopf point to the 12 mm amplitude bound,
+//!   with both folds located.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use critspeed::bifurcation::{analyse, cycle_at};
+use critspeed::study;
+use std::hint::black_box;
+use std::time::Duration;
+
+fn benches(c: &mut Criterion) {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/studies/flange-hysteresis.toml"
+    );
+    let plan = study::load(std::path::Path::new(path)).expect("study");
+    let model = plan.model().expect("model");
+    let opts = plan.bifurcation_options();
+    let branch = analyse(&plan.name, &model, &opts).expect("branch");
+    let mid = branch.cycles[branch.cycles.len() / 2];
+    let mut g = c.benchmark_group("continuation");
+    g.sample_size(20).measurement_time(Duration::from_secs(8));
+    g.bench_function("periodic_orbit_solve", |b| {
+        b.iter(|| {
+            cycle_at(
+                black_box(&model),
+                mid.speed_m_s * 1.001,
+                mid.x0,
+                mid.period_s,
+                opts.rtol,
+            )
+        })
+    });
+    g.sample_size(10).measurement_time(Duration::from_secs(15));
+    g.bench_function("bifurcation_diagram", |b| {
+        b.iter(|| analyse(&plan.name, black_box(&model), &opts))
+    });
+    g.finish();
+}
+
+criterion_group!(continuation, benches);
+criterion_main!(continuation);
