@@ -284,7 +284,7 @@ pub fn analyse_with_progress(
     params.max_points = opts.max_points;
     // Newton cannot converge below the integration noise: tie its tolerance to rtol.
     params.newton_tol = (10.0 * opts.rtol).max(1e-10);
-    let amp_ode = ode.clone();
+    let amp_ode = ode;
     let amplitude = move |o: &OrbitPoint<4>| peak(model, o, 0, &amp_ode);
     let counter = std::sync::atomic::AtomicUsize::new(0);
     let report_point = |p: &crate::continuation::BranchPoint<4>| {
@@ -297,7 +297,7 @@ pub fn analyse_with_progress(
         shooting: Shooting {
             field: model,
             symmetric: true,
-            ode: ode.clone(),
+            ode,
             dp_rel: opts.rtol.sqrt(),
         },
         params,

@@ -150,12 +150,12 @@ fn bifurcation(plan: &Plan, model: &Wheelset, root: &Path) -> Result<Bifurcation
     let started = std::time::Instant::now();
     let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
     let progress = |k: usize, v: f64, a: f64| {
-        if tty && k % 5 == 0 {
+        if tty && k.is_multiple_of(5) {
             eprint!(
                 "\r  cycle {k:>4}: V = {v:8.3} m/s, amplitude {:7.3} mm   ",
                 a * 1e3
             );
-        } else if !tty && k % 50 == 0 {
+        } else if !tty && k.is_multiple_of(50) {
             eprintln!(
                 "  cycle {k:>4}: V = {v:8.3} m/s, amplitude {:7.3} mm",
                 a * 1e3

@@ -30,6 +30,9 @@ pub struct Shooting<'a, const N: usize, F: VectorField<N>> {
     pub dp_rel: f64,
 }
 
+/// End state, monodromy (when asked for) and integrator steps of one flow evaluation.
+type Flowed<const N: usize> = (SVector<f64, N>, Option<SMatrix<f64, N, N>>, usize);
+
 /// One point of an orbit computation: the start, period and parameter.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OrbitPoint<const N: usize> {
@@ -70,10 +73,10 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
         period: f64,
         p: f64,
         monodromy: bool,
-    ) -> Result<(SVector<f64, N>, Option<SMatrix<f64, N, N>>, usize), OdeError> {
+    ) -> Result<Flowed<N>, OdeError> {
         let opts = OdeOptions {
             monodromy,
-            ..self.ode.clone()
+            ..self.ode
         };
         let s = integrate(self.field, p, x0, self.horizon(period), &opts)?;
         Ok((s.x, s.monodromy, s.stats.steps))

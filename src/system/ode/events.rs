@@ -129,7 +129,7 @@ impl Switches {
             };
             let tc = brent(&mut g, a, t1, ga, g1, 4.0 * f64::EPSILON * t1.abs());
             let inside = tc - t0 > near && t1 - tc > near;
-            if inside && first.as_ref().map_or(true, |(t, _)| tc < *t) {
+            if inside && first.as_ref().is_none_or(|(t, _)| tc < *t) {
                 let shorten = Scan::Shorten {
                     k,
                     lo: (a - t0, ga),
