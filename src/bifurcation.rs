@@ -28,6 +28,9 @@ pub struct BifurcationOptions {
     pub ds_max: f64,
     /// most cycles computed; default 400
     pub max_points: usize,
+    /// run each Newton step's two independent integrations on two threads (default true;
+    /// results are bitwise identical to the serial run)
+    pub parallel: bool,
 }
 
 impl BifurcationOptions {
@@ -39,6 +42,7 @@ impl BifurcationOptions {
             rtol: 1e-10,
             ds_max: 0.5,
             max_points: 400,
+            parallel: true,
         }
     }
 }
@@ -158,6 +162,7 @@ pub fn cycle_at(
             symmetric: true,
             ode,
             dp_rel: rtol.sqrt(),
+            parallel: true,
         },
         params,
         amplitude: &amplitude,
@@ -299,6 +304,7 @@ pub fn analyse_with_progress(
             symmetric: true,
             ode,
             dp_rel: opts.rtol.sqrt(),
+            parallel: opts.parallel,
         },
         params,
         amplitude: &amplitude,

@@ -37,6 +37,7 @@ fn continuation<'a>(
             symmetric,
             ode: ode(1e-12),
             dp_rel: 1e-6,
+            parallel: false,
         },
         params,
         amplitude: &radius,

@@ -24,6 +24,10 @@ pub struct Shooting<'a, const N: usize, F: VectorField<N>> {
     pub symmetric: bool,
     /// integrator options (tolerances); the monodromy flag is set internally
     pub ode: OdeOptions,
+    /// run the two independent integrations of each Newton step (flow with monodromy, and
+    /// the parameter perturbation) on two rayon threads; the results are bitwise identical
+    /// to the serial run because the two are pure and independent
+    pub parallel: bool,
     /// relative step of the one-sided difference for ∂φ/∂p; about √rtol balances truncation
     /// against integration noise. Its error only affects the Newton rate and the predictor,
     /// never the converged orbits, nor the folds (where the (x0, T) block is singular).
@@ -92,17 +96,24 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
 
     /// The shooting residual and its Jacobian at `z`.
     pub fn linearise(&self, z: &OrbitPoint<N>) -> Result<Linearised<N>, OdeError> {
-        let (end, phi, steps) = self.flow(&z.x0, z.period, z.param, true)?;
+        // ∂φ/∂p by a one-sided difference: the integrator has no parameter sensitivities, and
+        // one extra integration instead of two is worth the O(h) error in a Newton column
+        // (it changes the convergence rate slightly, not the converged orbit).
+        let h = self.dp_rel * z.param.abs().max(1.0);
+        let main = || self.flow(&z.x0, z.period, z.param, true);
+        let shifted = || self.flow(&z.x0, z.period, z.param + h, false);
+        let (a, b) = if self.parallel {
+            rayon::join(main, shifted)
+        } else {
+            (main(), shifted())
+        };
+        let (end, phi, steps) = a?;
+        let (plus, _, _) = b?;
         let phi = phi.ok_or(OdeError::NonFinite { t: 0.0 })?;
         let residual = self.residual_of(&z.x0, &end);
         let sign = if self.symmetric { 1.0 } else { -1.0 };
         let d_x0 = phi + SMatrix::<f64, N, N>::identity() * sign;
         let d_t = self.field.rhs(&end, z.param) * (self.horizon(1.0));
-        // ∂φ/∂p by a one-sided difference: the integrator has no parameter sensitivities, and
-        // one extra integration instead of two is worth the O(h) error in a Newton column
-        // (it changes the convergence rate slightly, not the converged orbit).
-        let h = self.dp_rel * z.param.abs().max(1.0);
-        let (plus, _, _) = self.flow(&z.x0, z.period, z.param + h, false)?;
         let d_p = (plus - end) / h;
         let mut jacobian = DMatrix::zeros(N, N + 2);
         jacobian.view_mut((0, 0), (N, N)).copy_from(&d_x0);
