@@ -12,7 +12,16 @@
 //! 4. [`stability`]: the spectrum of the centred motion at any speed and every crossing of
 //!    the imaginary axis (the linear, Kalker, critical speed and the Hopf speed of the study's
 //!    creep law).
-//! 5. [`output`] and [`plot`]: results as JSON/CSV and SVG under `out/<study>/`.
+//! 5. [`continuation`] (generic: periodic orbits by shooting, Floquet multipliers,
+//!    pseudo-arclength continuation, special points) driven by [`bifurcation`] for the
+//!    wheelset: the branch of hunting cycles from the Hopf point, folds, the nonlinear
+//!    critical speed. [`system::ode`] is the integrator (Dormand–Prince 5(4), variational
+//!    equations, event location at the flange); [`simulate`] runs time histories and the
+//!    ramp method.
+//! 6. [`output`], [`figures`] and [`plot`]: results as JSON/CSV and SVG under `out/<study>/`.
+//!
+//! [`reference`] holds problems with known answers (closed-form critical speed, the Hopf
+//! normal form) that the tests and benches share.
 //!
 //! ```
 //! use critspeed::study;
