@@ -20,7 +20,7 @@
 //!    ramp method.
 //! 6. [`output`], [`figures`] and [`plot`]: results as JSON/CSV and SVG under `out/<study>/`.
 //!
-//! [`reference`] holds problems with known answers (closed-form critical speed, the Hopf
+//! [`reference`](mod@reference) holds problems with known answers (closed-form critical speed, the Hopf
 //! normal form) that the tests and benches share.
 //!
 //! ```

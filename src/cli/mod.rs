@@ -14,7 +14,7 @@ use clap::{Parser, Subcommand};
 #[derive(Debug, Parser)]
 #[command(version, about, long_about = None)]
 pub struct Cli {
-    /// Folder for results; each study writes to <OUT>/<study name>/.
+    /// Folder for results; each study writes to `OUT/<study name>/`.
     #[arg(long, global = true, default_value = "out")]
     pub out: PathBuf,
     #[command(subcommand)]
@@ -24,7 +24,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Everything the study asks for (geometry, linear stability, and the bifurcation
-    /// diagram when the study has a [bifurcation] section). Without STUDY, runs the embedded
+    /// diagram when the study has a `[bifurcation]` section). Without STUDY, runs the embedded
     /// seed study and writes out/seed/.
     Run {
         /// Study file (TOML); omit for the embedded seed study.
