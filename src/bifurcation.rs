@@ -13,7 +13,7 @@ use crate::continuation::{
 };
 use crate::model::Wheelset;
 use crate::stability::{critical_speeds, spectrum_at, Crossing, LinearOptions, LinearSystem};
-use crate::system::ode::{integrate_to_section, OdeOptions, Tolerances};
+use crate::system::ode::{integrate_observed, integrate_to_section, OdeOptions, Tolerances};
 
 /// Options of the bifurcation analysis (study section `[bifurcation]`).
 #[derive(Clone, Debug, PartialEq)]
@@ -176,11 +176,14 @@ pub fn cycle_at(
     .map_err(|e| format!("no cycle found at {speed} m/s: Newton stopped with {e:?}"))
 }
 
-/// Max of state component `k` over one period: the first crossing of ẋ_k from + to −.
+/// Max of |state component `k`| over one period: the first crossing of ẋ_k from + to −,
+/// located on the dense output. If that section is not reached (a cycle whose component has
+/// no interior maximum is not expected, but the integrator may also fail), fall back to the
+/// largest of 400 samples over the period; NaN only if both integrations fail.
 fn peak(model: &Wheelset, o: &OrbitPoint<4>, k: usize, ode: &OdeOptions) -> f64 {
     let rate = k + 2;
     let section = move |x: &SVector<f64, 4>| -x[rate];
-    match integrate_to_section(
+    let located = integrate_to_section(
         model,
         o.param,
         &o.x0,
@@ -188,9 +191,17 @@ fn peak(model: &Wheelset, o: &OrbitPoint<4>, k: usize, ode: &OdeOptions) -> f64 
         &section,
         1e-9 * o.period,
         ode,
-    ) {
-        Ok(Some(s)) => s.x[k].abs(),
-        _ => f64::NAN,
+    );
+    if let Ok(Some(s)) = located {
+        return s.x[k].abs();
+    }
+    let samples: Vec<f64> = (0..=400).map(|i| o.period * i as f64 / 400.0).collect();
+    let mut max = f64::NAN;
+    let mut observe =
+        |_: f64, x: &SVector<f64, 4>| max = x[k].abs().max(if max.is_nan() { 0.0 } else { max });
+    match integrate_observed(model, o.param, &o.x0, o.period, ode, &samples, &mut observe) {
+        Ok(_) => max,
+        Err(_) => f64::NAN,
     }
 }
 
@@ -323,17 +334,11 @@ pub fn analyse_with_progress(
         }
     });
     let branch = cont.run(start, direction);
-    fill(&mut report, &branch, model, &ode, omega);
+    fill(&mut report, &branch, model, &ode);
     Ok(report)
 }
 
-fn fill(
-    report: &mut BifurcationReport,
-    branch: &Branch<4>,
-    model: &Wheelset,
-    ode: &OdeOptions,
-    _omega: f64,
-) {
+fn fill(report: &mut BifurcationReport, branch: &Branch<4>, model: &Wheelset, ode: &OdeOptions) {
     report.cycles = branch
         .points
         .iter()

@@ -324,3 +324,54 @@ pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> Result<St
     }
     render_grid(&[y, psi, phase], 1, 1100, 1300)
 }
+
+/// `ramp.svg`: the peak amplitude against speed during the ramp, and the EN 14363 sliding
+/// r.m.s. of the sum of guiding forces against its limit.
+pub fn ramp(study: &str, r: &crate::simulate::RampResult) -> Result<String, PlotError> {
+    let mut amp = figure(
+        &format!("{study}: ramp at {:.4} m/s² (peaks of |y|)", r.options.rate),
+        "speed V (m/s)",
+        "peak lateral amplitude (mm)",
+    );
+    amp.series.push(Series {
+        name: String::new(),
+        points: r
+            .envelope
+            .iter()
+            .map(|p| (p.speed_m_s, p.amplitude_m * 1e3))
+            .collect(),
+        style: Style::Points,
+    });
+    if let Some(v) = r.died_at_m_s {
+        amp.vlines.push(Marker {
+            at: v,
+            label: format!("died {v:.2} m/s"),
+        });
+    }
+    amp.hlines.push(Marker {
+        at: r.options.threshold * 1e3,
+        label: "threshold".into(),
+    });
+    let mut panels = vec![amp];
+    if let Some(e) = &r.en14363 {
+        let mut en = figure(
+            "EN 14363: sliding rms of ΣY (f0 ± 2 Hz, 100 m)",
+            "speed V (m/s)",
+            "ΣY rms (kN)",
+        );
+        en.series.push(line(
+            "",
+            e.series
+                .iter()
+                .map(|p| (p.speed_m_s, p.rms_n / 1e3))
+                .collect(),
+            false,
+        ));
+        en.hlines.push(Marker {
+            at: e.limit_n / 1e3,
+            label: format!("limit {:.2} kN", e.limit_n / 1e3),
+        });
+        panels.push(en);
+    }
+    render_grid(&panels, 1, 1000, 450 * panels.len() as u32)
+}

@@ -13,11 +13,11 @@ use crate::output;
 use crate::study::units::{parse_quantity, Dimension};
 use crate::study::{self, Plan};
 
-fn user<E: Into<anyhow::Error>>(e: E) -> Failure {
+pub(super) fn user<E: Into<anyhow::Error>>(e: E) -> Failure {
     Failure::User(e.into())
 }
 
-fn compute<E: Into<anyhow::Error>>(e: E) -> Failure {
+pub(super) fn compute<E: Into<anyhow::Error>>(e: E) -> Failure {
     Failure::Compute(e.into())
 }
 
@@ -80,6 +80,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
             let model = build(&plan)?;
             simulate(&plan, &model, &cli.out, &speeds, y0, duration, dt)
         }
+        Command::Ramp(args) => super::ramp::run(args, &cli.out),
         Command::Geometry { study } => {
             let plan = load(study)?;
             let model = build(&plan)?;
@@ -95,23 +96,23 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
     }
 }
 
-fn load(path: &Path) -> Result<Plan, Failure> {
+pub(super) fn load(path: &Path) -> Result<Plan, Failure> {
     study::load(path).map_err(user)
 }
 
-fn build(plan: &Plan) -> Result<Wheelset, Failure> {
+pub(super) fn build(plan: &Plan) -> Result<Wheelset, Failure> {
     plan.model()
         .with_context(|| format!("building the contact geometry of study '{}'", plan.name))
         .map_err(compute)
 }
 
-fn out_dir(root: &Path, plan: &Plan) -> Result<PathBuf, Failure> {
+pub(super) fn out_dir(root: &Path, plan: &Plan) -> Result<PathBuf, Failure> {
     output::study_dir(root, &plan.name)
         .with_context(|| format!("creating {}", root.join(&plan.name).display()))
         .map_err(compute)
 }
 
-fn write(dir: &Path, file: &str, bytes: &[u8]) -> Result<(), Failure> {
+pub(super) fn write(dir: &Path, file: &str, bytes: &[u8]) -> Result<(), Failure> {
     let path = output::write(dir, file, bytes)
         .with_context(|| format!("writing {}", dir.join(file).display()))
         .map_err(compute)?;
@@ -182,7 +183,7 @@ fn bifurcation(plan: &Plan, model: &Wheelset, root: &Path) -> Result<Bifurcation
 }
 
 /// A command-line quantity: a plain number (SI) or a number with a unit.
-fn argument(flag: &str, text: &str, dim: Dimension) -> Result<f64, Failure> {
+pub(super) fn argument(flag: &str, text: &str, dim: Dimension) -> Result<f64, Failure> {
     if let Ok(v) = text.trim().parse::<f64>() {
         if v.is_finite() {
             return Ok(v);

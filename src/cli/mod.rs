@@ -3,6 +3,7 @@
 //! Exit codes: 0 success, 2 user error (bad file, bad argument), 1 computation failure.
 
 mod commands;
+mod ramp;
 mod table;
 
 use std::path::PathBuf;
@@ -65,6 +66,9 @@ pub enum Command {
         #[arg(long, default_value = "2 ms")]
         dt: String,
     },
+    /// The ramp method (simulation): settle on a hunting cycle, decrease the speed slowly,
+    /// report where the hunting dies; with the EN 14363 criterion on the same history.
+    Ramp(ramp::RampArgs),
     /// The contact geometry table (rolling radii, contact angles, roll, Hertz patch, creep
     /// coefficients against lateral displacement) as CSV and SVG.
     Geometry {

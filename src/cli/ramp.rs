@@ -1,0 +1,260 @@
+//! `critspeed ramp`: the ramp method and the EN 14363 criterion on its history.
+
+use std::path::Path;
+
+use anyhow::anyhow;
+use serde_json::{json, Value};
+
+use super::commands::{argument, build, compute, load, out_dir, user, write};
+use super::Failure;
+use crate::contact::creep::CreepLaw;
+use crate::figures;
+use crate::simulate::{
+    ramp, ramp_converged, RampConvergence, RampOptions, RampResult, RampStop, RAMP_QUANTITY,
+};
+use crate::stability::{critical_speeds, LinearSystem};
+use crate::study::units::Dimension;
+
+/// The ramp command's arguments, as typed.
+#[derive(Debug, clap::Args)]
+pub struct RampArgs {
+    /// Study file (TOML).
+    pub study: std::path::PathBuf,
+    /// Start (and settle) speed; default 1.05 × the creep law's Hopf speed.
+    #[arg(long)]
+    pub start: Option<String>,
+    /// Speed at which the ramp gives up; default half the start speed.
+    #[arg(long)]
+    pub end: Option<String>,
+    /// Speed lost per second, e.g. "5 km/h" (per s, the GENSYS rate) or a number in m/s².
+    #[arg(long, default_value = "5 km/h")]
+    pub rate: String,
+    /// Initial lateral displacement that kicks the motion onto the cycle.
+    #[arg(long, default_value = "5 mm")]
+    pub y0: String,
+    /// Time at the start speed before the ramp begins.
+    #[arg(long, default_value = "20 s")]
+    pub settle: String,
+    /// Peak amplitude below which the hunting counts as died out.
+    #[arg(long, default_value = "0.1 mm")]
+    pub threshold: String,
+    /// Halve the rate until two estimates agree to --rel-tol (at most --max-halvings).
+    #[arg(long)]
+    pub converge: bool,
+    /// Relative agreement for --converge.
+    #[arg(long, default_value_t = 1e-3)]
+    pub rel_tol: f64,
+    /// Most halvings for --converge.
+    #[arg(long, default_value_t = 8)]
+    pub max_halvings: usize,
+    /// Print one JSON object on stdout instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn stop_name(s: &RampStop) -> String {
+    match s {
+        RampStop::Died => "died".into(),
+        RampStop::StillHunting { amplitude_m } => {
+            format!(
+                "still hunting at the end speed ({:.3} mm)",
+                amplitude_m * 1e3
+            )
+        }
+        RampStop::NotHuntingAtStart { amplitude_m } => format!(
+            "not hunting at the start speed ({:.3} mm): start above the critical speed",
+            amplitude_m * 1e3
+        ),
+    }
+}
+
+fn result_json(r: &RampResult) -> Value {
+    json!({
+        "quantity": RAMP_QUANTITY,
+        "died_at_m_s": r.died_at_m_s,
+        "stop": stop_name(&r.stop),
+        "start_speed_m_s": r.options.start_speed,
+        "rate_m_s2": r.options.rate,
+        "threshold_m": r.options.threshold,
+        "start_amplitude_m": r.start_amplitude_m,
+        "settle_drift_rel": r.settle_drift_rel,
+        "en14363": r.en14363.as_ref().map(|e| json!({
+            "quantity": "EN 14363 instability criterion: speed where the sliding rms of the \
+    sum of guiding forces (f0 ± 2 Hz, 100 m) drops below (10 + 2 Q0/3)/2 kN",
+            "speed_m_s": r.en14363_speed_m_s,
+            "f0_hz": e.f0_hz,
+            "limit_kn": e.limit_n / 1e3,
+            "max_rms_kn": e.max_rms_n / 1e3,
+            "verdict": format!("{:?}", e.verdict),
+        })),
+        "simulated_s": r.simulated_s,
+        "steps": r.steps,
+    })
+}
+
+fn convergence_json(c: &RampConvergence) -> Value {
+    Value::Array(
+        c.rows
+            .iter()
+            .map(|r| {
+                json!({
+                    "rate_m_s2": r.rate_m_s2,
+                    "died_at_m_s": r.died_at_m_s,
+                    "change_rel": r.change_rel,
+                    "extrapolated_m_s": r.extrapolated_m_s,
+                    "en14363_speed_m_s": r.en14363_speed_m_s,
+                    "stop": stop_name(&r.stop),
+                    "simulated_s": r.simulated_s,
+                })
+            })
+            .collect(),
+    )
+}
+
+fn envelope_csv(r: &RampResult) -> String {
+    let mut s = String::from("time_s,speed_m_s,amplitude_y_m\n");
+    for p in &r.envelope {
+        s.push_str(&format!("{},{},{}\n", p.t_s, p.speed_m_s, p.amplitude_m));
+    }
+    s
+}
+
+fn en14363_csv(r: &RampResult) -> String {
+    let mut s = String::from("time_s,speed_m_s,sum_guiding_forces_rms_kn,limit_kn\n");
+    if let Some(e) = &r.en14363 {
+        for p in &e.series {
+            s.push_str(&format!(
+                "{},{},{},{}\n",
+                p.t_s,
+                p.speed_m_s,
+                p.rms_n / 1e3,
+                e.limit_n / 1e3
+            ));
+        }
+    }
+    s
+}
+
+/// Runs `critspeed ramp`.
+pub fn run(a: &RampArgs, root: &Path) -> Result<(), Failure> {
+    let plan = load(&a.study)?;
+    let model = build(&plan)?;
+    let start = match &a.start {
+        Some(s) => argument("--start", s, Dimension::Speed)?,
+        None => {
+            let sys = LinearSystem::at_centre(&model);
+            let hopf = critical_speeds(&sys, model.creep_law, &plan.linear)
+                .map_err(compute)?
+                .critical()
+                .map(|c| c.speed_m_s)
+                .ok_or_else(|| {
+                    user(anyhow!(
+                        "the {} model has no Hopf point in [{}, {}] m/s: give --start",
+                        model.creep_law.name(),
+                        plan.linear.speed_range.0,
+                        plan.linear.speed_range.1
+                    ))
+                })?;
+            1.05 * hopf
+        }
+    };
+    let mut o = RampOptions::new(start, 0.5 * start);
+    if let Some(e) = &a.end {
+        o.end_speed = argument("--end", e, Dimension::Speed)?;
+    }
+    o.rate = argument("--rate", &a.rate, Dimension::Speed)?;
+    o.y0 = argument("--y0", &a.y0, Dimension::Length)?;
+    o.settle = argument("--settle", &a.settle, Dimension::Time)?;
+    o.threshold = argument("--threshold", &a.threshold, Dimension::Length)?;
+    o.validate().map_err(user)?;
+    if model.creep_law == CreepLaw::Kalker {
+        eprintln!("note: with Kalker's unbounded creep law no limit cycle exists; the ramp tells only growth or decay");
+    }
+    eprintln!(
+        "ramp '{}': settle {} s at {:.3} m/s, then -{:.4} m/s^2 to {:.3} m/s{}",
+        plan.name,
+        o.settle,
+        o.start_speed,
+        o.rate,
+        o.end_speed,
+        if a.converge {
+            ", halving the rate until converged"
+        } else {
+            ""
+        }
+    );
+    let started = std::time::Instant::now();
+    let (result, conv) = if a.converge {
+        let c = ramp_converged(&model, &o, a.max_halvings, a.rel_tol).map_err(compute)?;
+        let last = c.rows.last().map_or(o.rate, |r| r.rate_m_s2);
+        let r = ramp(&model, &RampOptions { rate: last, ..o }).map_err(compute)?;
+        (r, Some(c))
+    } else {
+        (ramp(&model, &o).map_err(compute)?, None)
+    };
+    eprintln!("  done in {:.1} s", started.elapsed().as_secs_f64());
+    let mut j = result_json(&result);
+    j["study"] = json!(plan.name);
+    if let Some(c) = &conv {
+        j["convergence"] = convergence_json(c);
+        j["converged"] = json!(c
+            .converged
+            .map(|(v, rate)| json!({"died_at_m_s": v, "rate_m_s2": rate})));
+    }
+    let dir = out_dir(root, &plan)?;
+    let text = serde_json::to_string_pretty(&j).map_err(compute)?;
+    write(&dir, "ramp.json", text.as_bytes())?;
+    write(&dir, "ramp.csv", envelope_csv(&result).as_bytes())?;
+    write(&dir, "en14363.csv", en14363_csv(&result).as_bytes())?;
+    let svg = figures::ramp(&plan.name, &result).map_err(|e| compute(anyhow!(e)))?;
+    write(&dir, "ramp.svg", svg.as_bytes())?;
+    if a.json {
+        println!("{text}");
+    } else {
+        print!("{}", table(&plan.name, &result, conv.as_ref()));
+    }
+    Ok(())
+}
+
+fn table(study: &str, r: &RampResult, conv: Option<&RampConvergence>) -> String {
+    let mut s = format!("\nstudy '{study}': {RAMP_QUANTITY}\n");
+    if let Some(c) = conv {
+        s.push_str("  rate (m/s^2)   died at (m/s)   change   extrapolated (m/s)\n");
+        for row in &c.rows {
+            s.push_str(&format!(
+                "  {:<14.6} {:<15} {:<8} {}\n",
+                row.rate_m_s2,
+                row.died_at_m_s.map_or("-".into(), |v| format!("{v:.4}")),
+                row.change_rel.map_or("-".into(), |v| format!("{v:.1e}")),
+                row.extrapolated_m_s
+                    .map_or("-".into(), |v| format!("{v:.4}")),
+            ));
+        }
+        s.push_str(&format!("  stopped: {:?}\n", c.stop));
+    }
+    s.push_str(&format!(
+        "  start {:.3} m/s on a {:.3} mm cycle (settle drift {:+.1e}); rate {:.4} m/s^2\n",
+        r.options.start_speed,
+        r.start_amplitude_m * 1e3,
+        r.settle_drift_rel,
+        r.options.rate
+    ));
+    s.push_str(&format!(
+        "  hunting died at {} ({})\n",
+        r.died_at_m_s.map_or("-".into(), |v| format!("{v:.4} m/s")),
+        stop_name(&r.stop)
+    ));
+    s.push_str(
+        "  (the ramp under-estimates V_NL at any finite rate; the lag shrinks like sqrt(rate))\n",
+    );
+    if let Some(e) = &r.en14363 {
+        s.push_str(&format!(
+            "  EN 14363: f0 = {} Hz, max sliding rms {:.2} kN against the limit {:.2} kN: {:?}\n",
+            e.f0_hz.map_or("-".into(), |f| format!("{f:.3}")),
+            e.max_rms_n / 1e3,
+            e.limit_n / 1e3,
+            e.verdict
+        ));
+    }
+    s
+}
