@@ -186,6 +186,16 @@ fn ramp_estimate_lags_below_the_hopf_speed_and_converges_like_sqrt_rate() {
         (extrapolated - v_nl).abs() < 0.15,
         "extrapolated {extrapolated}"
     );
+    // The bracket the ramp gives: its estimate from below, the √rate extrapolation (which the
+    // logarithmic factor makes overshoot) from above. V_NL from the continuation lies inside
+    // it for each of the last rows.
+    for r in c.rows.iter().skip(3) {
+        let (lo, hi) = (
+            r.died_at_m_s.expect("hunting died"),
+            r.extrapolated_m_s.expect("two rows"),
+        );
+        assert!(lo < v_nl && v_nl < hi, "V_NL {v_nl} outside [{lo}, {hi}]");
+    }
 }
 
 #[test]
