@@ -1,7 +1,8 @@
 //! Benches of the nonlinear analysis on `studies/flange-hysteresis.toml`:
 //! * `periodic_orbit_solve`: one cycle by Newton from a neighbouring cycle (speed +0.1 %);
 //! * `bifurcation_diagram`: the whole branch, Hopf point to the 12 mm amplitude bound,
-//!   with both folds located.
+//!   with both folds located;
+//! * `seed_hunting_v_nl`: V_NL of `studies/seed-hunting.toml` (compare `benches/ramp.rs`).
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use critspeed::bifurcation::{analyse, cycle_at};
@@ -35,6 +36,21 @@ fn benches(c: &mut Criterion) {
     g.sample_size(10).measurement_time(Duration::from_secs(15));
     g.bench_function("bifurcation_diagram", |b| {
         b.iter(|| analyse(&plan.name, black_box(&model), &opts))
+    });
+    // The same quantity the ramp bench estimates (benches/ramp.rs, studies/seed-hunting.toml):
+    // V_NL from the continuation: Hopf point, branch direction and stability of the first
+    // cycles up to 1 mm amplitude, which settle sub- or supercritical.
+    let sh = study::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/studies/seed-hunting.toml"
+    )))
+    .expect("study");
+    let sh_model = sh.model().expect("model");
+    let mut sh_opts = sh.bifurcation_options();
+    sh_opts.max_amplitude = 0.001;
+    g.sample_size(20).measurement_time(Duration::from_secs(5));
+    g.bench_function("seed_hunting_v_nl", |b| {
+        b.iter(|| analyse(&sh.name, black_box(&sh_model), &sh_opts))
     });
     g.finish();
 }
