@@ -88,6 +88,8 @@ pub struct CycleRow {
     /// the cycle's start state (y m, ψ rad, ẏ m/s, ψ̇ rad/s): integrating from it at this
     /// speed reproduces the cycle
     pub x0: [f64; 4],
+    /// the four Floquet multipliers (re, im), by decreasing modulus
+    pub multipliers: [(f64, f64); 4],
 }
 
 /// A special point of the branch, for output.
@@ -352,6 +354,12 @@ fn fill(report: &mut BifurcationReport, branch: &Branch<4>, model: &Wheelset, od
             trivial_multiplier_error: p.floquet.trivial_error,
             newton_iterations: p.newton_iterations,
             x0: [p.orbit.x0[0], p.orbit.x0[1], p.orbit.x0[2], p.orbit.x0[3]],
+            multipliers: std::array::from_fn(|k| {
+                p.floquet
+                    .multipliers
+                    .get(k)
+                    .map_or((f64::NAN, f64::NAN), |m| (m.re, m.im))
+            }),
         })
         .collect();
     report.special = branch

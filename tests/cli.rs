@@ -120,3 +120,88 @@ fn check_prints_the_plan_in_si() {
         "{s}"
     );
 }
+
+#[test]
+fn bifurcation_json_and_branch_csv_contract() {
+    let dir = scratch("bif");
+    let out = critspeed(
+        &["bifurcation", &study("flange-hysteresis.toml"), "--json"],
+        &dir,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    for key in [
+        "study",
+        "kalker_critical_speed_m_s",
+        "hopf_speed_m_s",
+        "hopf_type",
+        "nonlinear_critical_speed_m_s",
+        "special_points",
+        "stop_reason",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(v["hopf_type"], "supercritical");
+    let folds: Vec<&serde_json::Value> = v["special_points"]
+        .as_array()
+        .expect("array")
+        .iter()
+        .filter(|p| p["kind"] == "fold")
+        .collect();
+    assert_eq!(folds.len(), 2);
+    assert!(folds
+        .iter()
+        .all(|f| f["located"] == true && f["speed_m_s"].is_f64()));
+    let csv = std::fs::read_to_string(dir.join("out/flange-hysteresis/branch.csv")).expect("csv");
+    let header = csv.lines().next().expect("header");
+    assert_eq!(
+        header,
+        "speed_m_s,amplitude_y_m,amplitude_psi_rad,period_s,frequency_hz,stable,\
+max_multiplier_abs,trivial_multiplier_error,newton_iterations,y0_m,psi0_rad,ydot0_m_s,\
+psidot0_rad_s,mu1_re,mu1_im,mu2_re,mu2_im,mu3_re,mu3_im,mu4_re,mu4_im"
+    );
+    let cols = header.split(',').count();
+    assert!(csv.lines().skip(1).all(|l| l.split(',').count() == cols));
+    assert!(dir.join("out/flange-hysteresis/bifurcation.svg").is_file());
+}
+
+#[test]
+fn simulate_and_ramp_write_their_files() {
+    let dir = scratch("sim");
+    let out = critspeed(
+        &[
+            "simulate",
+            &study("seed.toml"),
+            "--speed",
+            "10,30,40",
+            "--duration",
+            "5 s",
+        ],
+        &dir,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.join("out/seed/simulate.csv")).expect("csv");
+    assert!(csv.starts_with("speed_m_s,time_s,y_m,psi_rad,ydot_m_s,psidot_rad_s\n"));
+    // 3 speeds × (5 s / 2 ms + 1) samples
+    assert_eq!(csv.lines().count(), 1 + 3 * 2501);
+    let out = critspeed(&["ramp", &study("seed-hunting.toml"), "--json"], &dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert!(v["quantity"].as_str().is_some_and(|q| q.contains("ramp")));
+    assert!(v["died_at_m_s"].is_f64());
+    // a bad unit is a user error
+    let bad = critspeed(&["simulate", &study("seed.toml"), "--speed", "40 N"], &dir);
+    assert_eq!(bad.status.code(), Some(2));
+}

@@ -179,7 +179,7 @@ pub fn branch_csv(r: &crate::bifurcation::BifurcationReport) -> String {
     let mut s = String::from(
         "speed_m_s,amplitude_y_m,amplitude_psi_rad,period_s,frequency_hz,stable,\
 max_multiplier_abs,trivial_multiplier_error,newton_iterations,y0_m,psi0_rad,ydot0_m_s,\
-psidot0_rad_s\n",
+psidot0_rad_s,mu1_re,mu1_im,mu2_re,mu2_im,mu3_re,mu3_im,mu4_re,mu4_im\n",
     );
     for c in &r.cycles {
         let _ = writeln!(
@@ -199,6 +199,12 @@ psidot0_rad_s\n",
             c.x0[2],
             c.x0[3]
         );
+        // the multipliers follow on the same line
+        s.pop();
+        for (re, im) in c.multipliers {
+            let _ = write!(s, ",{re},{im}");
+        }
+        s.push('\n');
     }
     s
 }
