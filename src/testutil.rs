@@ -2,11 +2,14 @@
 
 use std::path::PathBuf;
 
-/// A file of the project's shared reference data, `../shared/reference/NAME` beside the
-/// crate (where CI and every checkout of the project have it).
+/// A published reference file: `../shared/reference/NAME` beside the crate (where CI and the
+/// project's checkouts have it), else the cited copy in `tests/data/NAME`.
 pub(crate) fn shared_reference(name: &str) -> Option<PathBuf> {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/reference")
-        .join(name);
-    path.is_file().then_some(path)
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    [
+        root.join("../shared/reference").join(name),
+        root.join("tests/data").join(name),
+    ]
+    .into_iter()
+    .find(|p| p.is_file())
 }
