@@ -375,3 +375,20 @@ pub fn ramp(study: &str, r: &crate::simulate::RampResult) -> Result<String, Plot
     }
     render_grid(&panels, 1, 1000, 450 * panels.len() as u32)
 }
+
+/// `conicity.svg`: equivalent conicity against amplitude.
+pub fn conicity(name: &str, c: &[crate::conicity::Conicity]) -> Result<String, PlotError> {
+    let mut fig = figure(
+        &format!("{name}: equivalent conicity (EN 15302)"),
+        "amplitude ŷ (mm)",
+        "equivalent conicity tan γe (–)",
+    );
+    fig.series.push(line(
+        "",
+        c.iter()
+            .map(|p| (p.amplitude_m * 1e3, p.conicity))
+            .collect(),
+        false,
+    ));
+    render_svg(&fig, 900, 600)
+}

@@ -39,6 +39,7 @@
 pub mod analysis;
 pub mod bifurcation;
 pub mod cli;
+pub mod conicity;
 pub mod contact;
 pub mod continuation;
 pub mod figures;

@@ -205,3 +205,50 @@ fn simulate_and_ramp_write_their_files() {
     let bad = critspeed(&["simulate", &study("seed.toml"), "--speed", "40 N"], &dir);
     assert_eq!(bad.status.code(), Some(2));
 }
+
+#[test]
+fn conicity_json_contract_and_errors() {
+    let dir = scratch("conicity");
+    let table = dir.join("dr.csv");
+    // a 1:10 cone: Δr = 2·0.1·y
+    let mut text = String::from("y_mm,delta_r_mm\n");
+    for i in -80..=80 {
+        let y = i as f64 * 0.1;
+        text.push_str(&format!("{y},{}\n", 0.2 * y));
+    }
+    std::fs::write(&table, text).expect("write");
+    let t = table.to_str().expect("utf-8");
+    let out = critspeed(
+        &[
+            "conicity",
+            "--delta-r",
+            t,
+            "--amplitudes",
+            "1mm,3mm",
+            "--json",
+        ],
+        &dir,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let lam: Vec<f64> = v["equivalent_conicity"]
+        .as_array()
+        .expect("array")
+        .iter()
+        .map(|x| x.as_f64().expect("number"))
+        .collect();
+    assert_eq!(v["amplitude_m"].as_array().map(Vec::len), Some(2));
+    assert!(lam.iter().all(|l| (l - 0.1).abs() < 1e-9), "{lam:?}");
+    assert!(dir.join("out/dr/conicity.csv").is_file() && dir.join("out/dr/conicity.svg").is_file());
+    // beyond the table, and a malformed file: user errors naming the problem
+    let far = critspeed(&["conicity", "--delta-r", t, "--amplitudes", "20mm"], &dir);
+    assert_eq!(far.status.code(), Some(2));
+    std::fs::write(&table, "y_mm,delta_r_mm\n0,0\n1,oops\n").expect("write");
+    let bad = critspeed(&["conicity", "--delta-r", t], &dir);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("dr.csv:3"));
+}

@@ -81,6 +81,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
             simulate(&plan, &model, &cli.out, &speeds, y0, duration, dt)
         }
         Command::Ramp(args) => super::ramp::run(args, &cli.out),
+        Command::Conicity(args) => super::conicity::run(args, &cli.out),
         Command::Geometry { study } => {
             let plan = load(study)?;
             let model = build(&plan)?;

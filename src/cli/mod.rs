@@ -3,6 +3,7 @@
 //! Exit codes: 0 success, 2 user error (bad file, bad argument), 1 computation failure.
 
 mod commands;
+mod conicity;
 mod ramp;
 mod table;
 
@@ -69,6 +70,8 @@ pub enum Command {
     /// The ramp method (simulation): settle on a hunting cycle, decrease the speed slowly,
     /// report where the hunting dies; with the EN 14363 criterion on the same history.
     Ramp(ramp::RampArgs),
+    /// EN 15302 equivalent conicity against amplitude, for a study's geometry or a Δr table.
+    Conicity(conicity::ConicityArgs),
     /// The contact geometry table (rolling radii, contact angles, roll, Hertz patch, creep
     /// coefficients against lateral displacement) as CSV and SVG.
     Geometry {
