@@ -124,12 +124,14 @@ impl DeltaR {
                 scale = match f.as_slice() {
                     ["y_mm", "delta_r_mm"] => Some(1e-3),
                     ["y_m", "delta_r_m"] => Some(1.0),
-                    _ => return Err(err(
-                        k + 1,
-                        format!(
+                    _ => {
+                        return Err(err(
+                            k + 1,
+                            format!(
                             "header {line:?}: expected \"y_mm,delta_r_mm\" or \"y_m,delta_r_m\""
                         ),
-                    )),
+                        ))
+                    }
                 };
                 continue;
             }
