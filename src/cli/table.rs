@@ -168,7 +168,7 @@ pub fn plan(p: &Plan) -> String {
         "suspension.half_spring_spacing",
         format!("{} m", u.half_spring_spacing),
     );
-    match c.geometry {
+    match &c.geometry {
         Geometry::Cone { conicity } => {
             line("contact.geometry", "cone".into());
             line("contact.conicity", format!("{conicity}"));
@@ -182,6 +182,10 @@ pub fn plan(p: &Plan) -> String {
             line("contact.conicity", format!("{conicity}"));
             line("contact.rail_head_radius", format!("{rail_head_radius} m"));
             line("contact.crown_offset", format!("{crown_offset} m"));
+        }
+        Geometry::Table(t) => {
+            line("contact.geometry", "table".into());
+            line("contact.geometry_table", t.source.clone());
         }
     }
     match c.creep_law {

@@ -15,8 +15,11 @@
 //!   tangency on each side). The slopes with respect to `y` are obtained exactly by the
 //!   implicit function theorem, `du/dy = −F_u⁻¹ F_y`, with `F_u` and `F_y` from dual numbers.
 
+use std::sync::Arc;
+
 use nalgebra::{Matrix4, Vector4};
 
+use crate::contact::tabulated::TabulatedGeometry;
 use crate::system::scalar::{Dual, Scalar};
 
 /// Wheel–rail contact geometry of a study, in SI units.
@@ -36,6 +39,8 @@ pub enum Geometry {
         /// lateral offset of the rail crown outside the nominal contact point (m)
         crown_offset: f64,
     },
+    /// A geometry tabulated in a file (MODEL §3, method 3), interpolated by C² splines.
+    Table(Arc<TabulatedGeometry>),
 }
 
 /// The right wheel's contact state at one lateral displacement.
@@ -47,7 +52,8 @@ pub struct ContactPoint<T> {
     pub angle: T,
     /// wheelset roll φ (rad)
     pub roll: T,
-    /// lateral position of the contact point on the wheel, from the nominal point, outward (m)
+    /// lateral position of the contact point on the wheel, from the nominal point, outward (m);
+    /// NaN for a tabulated geometry (not tabulated)
     pub wheel_offset: T,
 }
 
@@ -71,6 +77,14 @@ pub enum GeometryError {
     /// The Jacobian of the contact equations is singular.
     #[error("rigid contact equations are singular at y = {y_m:.6e} m")]
     Singular { y_m: f64 },
+    /// The displacement lies outside a tabulated geometry's range.
+    #[error("y = {y_m:.6e} m lies outside the geometry table {table} (y from {min_m:.6e} m to {max_m:.6e} m)")]
+    OutsideTable {
+        y_m: f64,
+        table: String,
+        min_m: f64,
+        max_m: f64,
+    },
 }
 
 /// Nominal wheelset dimensions the geometry needs.
@@ -83,17 +97,18 @@ pub struct Nominal {
 }
 
 impl Geometry {
-    /// The cone slope λ.
+    /// The cone slope λ; for a table, the slope dr_R/dy at y = 0.
     pub fn conicity(&self) -> f64 {
-        match *self {
-            Geometry::Cone { conicity } | Geometry::ConeOnArc { conicity, .. } => conicity,
+        match self {
+            Geometry::Cone { conicity } | Geometry::ConeOnArc { conicity, .. } => *conicity,
+            Geometry::Table(t) => t.point(0.0).radius.eps[0],
         }
     }
 
     /// Transverse curvature of the rail head at the contact (1/m); 0 for a knife edge.
     pub fn rail_transverse_curvature(&self) -> Option<f64> {
         match *self {
-            Geometry::Cone { .. } => None,
+            Geometry::Cone { .. } | Geometry::Table(_) => None,
             Geometry::ConeOnArc {
                 rail_head_radius, ..
             } => Some(1.0 / rail_head_radius),
@@ -123,6 +138,18 @@ impl Geometry {
                     nominal,
                 };
                 arc.solve(y, guess)
+            }
+            Geometry::Table(ref t) => {
+                let (min_m, max_m) = t.range();
+                if !(min_m..=max_m).contains(&y) {
+                    return Err(GeometryError::OutsideTable {
+                        y_m: y,
+                        table: t.source.clone(),
+                        min_m,
+                        max_m,
+                    });
+                }
+                Ok((t.point(y), [0.0; 4]))
             }
         }
     }

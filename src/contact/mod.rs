@@ -4,4 +4,6 @@ pub mod creep;
 pub mod geometry;
 pub mod hertz;
 pub mod kalker;
+pub mod spline;
 pub mod table;
+pub mod tabulated;

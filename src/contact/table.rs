@@ -289,25 +289,15 @@ fn node_columns(
     y: f64,
 ) -> Result<([Dual<1>; COLUMNS], bool), TableError> {
     let zero = Dual::cst(0.0);
-    let patch = match spec
-        .rail_head_radius
-        .or_else(|| geometry.rail_transverse_curvature().map(|k| 1.0 / k))
-    {
-        Some(rail_radius) => {
-            // MODEL §4: N = (W/2)/cos δ, A = 1/r (rolling), B = 1/R_rail (the cone is straight
-            // transversally).
-            let normal = p.angle.cos().recip() * (spec.axle_load / 2.0);
-            let patch = hertz_patch(
-                normal,
-                p.radius.recip(),
-                Dual::cst(1.0 / rail_radius),
-                spec.elastic.young_modulus,
-                spec.elastic.poisson_ratio,
-            )
-            .map_err(|source| TableError::Hertz { y_m: y, source })?;
-            Some((patch.a, patch.b))
-        }
-        None => None,
+    // MODEL §4: N = (W/2)/cos δ
+    let normal = p.angle.cos().recip() * (spec.axle_load / 2.0);
+    let tabulated = match geometry {
+        Geometry::Table(t) => Some(t.as_ref()),
+        _ => None,
+    };
+    let patch = match tabulated.and_then(|t| t.semi_axes(y, normal)) {
+        Some(ab) => Some(ab),
+        None => hertz_from_rail(p, normal, geometry, spec, y)?,
     };
     let creep = match (spec.creep, patch) {
         (CreepSource::Given(c), _) => CreepCoefficients {
@@ -317,7 +307,11 @@ fn node_columns(
             f33: Dual::cst(c.f33),
         },
         (CreepSource::Hertz, Some((a, b))) => {
-            creep_coefficients(a, b, spec.elastic.shear_modulus, spec.elastic.poisson_ratio)
+            let (g, nu) = (spec.elastic.shear_modulus, spec.elastic.poisson_ratio);
+            // the table's own Kalker coefficients when it has them, else Kalker's table
+            tabulated
+                .and_then(|t| t.creep(y, a, b, g, nu))
+                .unwrap_or_else(|| creep_coefficients(a, b, g, nu))
                 .map_err(|source| TableError::Kalker { y_m: y, source })?
         }
         (CreepSource::Hertz, None) => return Err(TableError::NoCreepCoefficients),
@@ -329,4 +323,30 @@ fn node_columns(
         ],
         patch.is_some(),
     ))
+}
+
+/// The Hertz patch from the rail head radius (a cone is straight transversally), if known.
+fn hertz_from_rail(
+    p: ContactPoint<Dual<1>>,
+    normal: Dual<1>,
+    geometry: &Geometry,
+    spec: &TableSpec,
+    y: f64,
+) -> Result<Option<(Dual<1>, Dual<1>)>, TableError> {
+    let Some(rail_radius) = spec
+        .rail_head_radius
+        .or_else(|| geometry.rail_transverse_curvature().map(|k| 1.0 / k))
+    else {
+        return Ok(None);
+    };
+    // MODEL §4: A = 1/r (rolling), B = 1/R_rail
+    let patch = hertz_patch(
+        normal,
+        p.radius.recip(),
+        Dual::cst(1.0 / rail_radius),
+        spec.elastic.young_modulus,
+        spec.elastic.poisson_ratio,
+    )
+    .map_err(|source| TableError::Hertz { y_m: y, source })?;
+    Ok(Some((patch.a, patch.b)))
 }

@@ -4,6 +4,7 @@
 //! the file format; [`DEFAULT_STUDY`] is the seed study embedded in the binary.
 
 pub mod schema;
+mod tabulated;
 pub mod units;
 
 use std::path::Path;
@@ -46,6 +47,8 @@ pub enum StudyError {
     },
     #[error("{key} is missing: {why}")]
     Missing { key: String, why: String },
+    #[error("contact.geometry_table: {0}")]
+    Table(crate::contact::tabulated::TabulatedError),
     #[error("{key} = {value:?} is not one of {allowed}")]
     Choice {
         key: String,
@@ -104,16 +107,23 @@ pub fn load(path: &Path) -> Result<Plan, StudyError> {
         path: path.display().to_string(),
         source,
     })?;
-    parse(&text, &path.display().to_string())
+    parse_in(&text, &path.display().to_string(), path.parent())
 }
 
-/// Parses and validates study text; `origin` names it in messages.
+/// Parses and validates study text; `origin` names it in messages. A geometry table path is
+/// taken relative to the current directory.
 pub fn parse(text: &str, origin: &str) -> Result<Plan, StudyError> {
+    parse_in(text, origin, None)
+}
+
+/// Parses and validates study text whose relative paths (the geometry table) are relative
+/// to `folder` (the study file's folder; `None`: the current directory).
+pub fn parse_in(text: &str, origin: &str, folder: Option<&Path>) -> Result<Plan, StudyError> {
     let file: StudyFile = toml::from_str(text).map_err(|e| StudyError::Syntax {
         path: origin.to_string(),
         message: e.to_string(),
     })?;
-    plan(file)
+    plan(file, folder)
 }
 
 fn quantity(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
@@ -199,7 +209,7 @@ fn conicity(q: &Quantity) -> Result<f64, StudyError> {
     }
 }
 
-fn plan(f: StudyFile) -> Result<Plan, StudyError> {
+fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyError> {
     if f.name.is_empty()
         || !f
             .name
@@ -264,7 +274,7 @@ fn plan(f: StudyFile) -> Result<Plan, StudyError> {
         }),
         None => None,
     };
-    let contact = contact_plan(&f.contact, &wheelset, flange.as_ref())?;
+    let contact = contact_plan(&f.contact, &wheelset, flange.as_ref(), folder)?;
     let (linear, spectrum_points) = linear_plan(f.linear.as_ref())?;
     let bifurcation = f
         .bifurcation
@@ -337,16 +347,27 @@ fn contact_plan(
     c: &schema::ContactSection,
     w: &WheelsetParams,
     flange: Option<&Flange>,
+    folder: Option<&Path>,
 ) -> Result<ContactPlan, StudyError> {
-    let lambda = conicity(&c.conicity)?;
     let rail_head_radius = c
         .rail_head_radius
         .as_ref()
         .map(|q| positive("contact.rail_head_radius", q, Dimension::Length))
         .transpose()?;
+    let cone_slope = || match &c.conicity {
+        Some(q) => conicity(q),
+        None => Err(StudyError::Missing {
+            key: "contact.conicity".into(),
+            why: format!("geometry {:?} needs the cone slope", c.geometry),
+        }),
+    };
     let geometry = match c.geometry.as_str() {
-        "cone" => Geometry::Cone { conicity: lambda },
+        "cone" => Geometry::Cone {
+            conicity: cone_slope()?,
+        },
+        "table" => tabulated::geometry(c, w, folder)?,
         "cone-on-arc" => {
+            let lambda = cone_slope()?;
             let radius = rail_head_radius.ok_or_else(|| StudyError::Missing {
                 key: "contact.rail_head_radius".into(),
                 why: "geometry \"cone-on-arc\" needs the rail head radius".into(),
@@ -374,10 +395,17 @@ fn contact_plan(
             return Err(StudyError::Choice {
                 key: "contact.geometry".into(),
                 value: other.into(),
-                allowed: "\"cone\", \"cone-on-arc\"",
+                allowed: "\"cone\", \"cone-on-arc\", \"table\"",
             })
         }
     };
+    if c.geometry != "table" && c.geometry_table.is_some() {
+        return Err(rule(
+            "contact.geometry_table",
+            "given",
+            "only applies to geometry \"table\"",
+        ));
+    }
     if c.geometry == "cone" && c.crown_offset.is_some() {
         return Err(StudyError::Rule {
             key: "contact.crown_offset".into(),
@@ -434,15 +462,19 @@ fn contact_plan(
             )?,
         }),
         None if rail_head_radius.is_some() => CreepSource::Hertz,
+        None if matches!(&geometry, Geometry::Table(t) if t.has_semi_axes()) => CreepSource::Hertz,
         None => {
             return Err(StudyError::Missing {
                 key: "contact.creep_coefficients".into(),
-                why: "without a rail_head_radius they cannot be computed from the Hertz patch"
+                why: "without a rail_head_radius (or Hertz semi-axes in the geometry table) they cannot be computed from the Hertz patch"
                     .into(),
             })
         }
     };
-    let default_range = flange.map_or(0.010, |f| (1.5 * f.clearance).max(0.010));
+    let default_range = match &geometry {
+        Geometry::Table(t) => t.half_width(),
+        _ => flange.map_or(0.010, |f| (1.5 * f.clearance).max(0.010)),
+    };
     let lateral_range = match &c.lateral_range {
         Some(q) => checked(
             "contact.lateral_range",
@@ -453,6 +485,21 @@ fn contact_plan(
         )?,
         None => default_range,
     };
+    if let Geometry::Table(t) = &geometry {
+        if lateral_range > t.half_width() {
+            return Err(rule(
+                "contact.lateral_range",
+                format!("{lateral_range} m"),
+                &format!(
+                    "must not exceed the geometry table's half-width {} m ({} covers y from {} m to {} m)",
+                    t.half_width(),
+                    t.source,
+                    t.range().0,
+                    t.range().1
+                ),
+            ));
+        }
+    }
     let table_points = c.table_points.unwrap_or(401);
     if !(5..=100_001).contains(&table_points) {
         return Err(StudyError::Rule {

@@ -58,10 +58,14 @@ pub struct SuspensionSection {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSection {
-    /// "cone" or "cone-on-arc"
+    /// "cone", "cone-on-arc" or "table"
     pub geometry: String,
-    /// cone slope λ: a number (0.05) or a ratio string ("1:20")
-    pub conicity: Quantity,
+    /// cone slope λ: a number (0.05) or a ratio string ("1:20"); cone geometries only
+    #[serde(default)]
+    pub conicity: Option<Quantity>,
+    /// geometry "table": the CSV file, relative to the study file's folder
+    #[serde(default)]
+    pub geometry_table: Option<String>,
     #[serde(default)]
     pub rail_head_radius: Option<Quantity>,
     #[serde(default)]

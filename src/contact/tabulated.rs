@@ -1,0 +1,501 @@
+//! MODEL §3 method 3: a contact geometry read from a CSV table and interpolated C².
+//!
+//! # File format
+//!
+//! Lines starting with `#` are comments. The first other line is the header; each column
+//! name carries its unit, and every column is converted to SI once, here:
+//!
+//! | quantity | accepted names | required |
+//! |---|---|---|
+//! | lateral displacement y of the wheelset (towards the tabulated wheel's rail) | `y_m`, `y_mm` | yes |
+//! | rolling radius r_R, or r_R − r0 | `r_m`, `r_mm`, `r_minus_r0_m`, `r_minus_r0_mm` | one of them |
+//! | contact angle δ_R to the **track** plane (MODEL §3: includes the roll) | `delta_rad`, `delta_deg` | yes |
+//! | wheelset roll φ | `roll_rad`, `roll_deg` | yes |
+//! | Hertz semi-axes a (rolling), b (lateral) | `a_m`/`a_mm` and `b_m`/`b_mm` | optional, both |
+//! | Kalker's coefficients C11, C22, C23 (dimensionless) | `c11`, `c22`, `c23` | optional, all three |
+//! | Kalker's C33 (dimensionless) | `c33` | optional (else Kalker's table at a/b) |
+//! | normal force at which a, b were computed | `normal_force_N`, `normal_force_kN` | optional |
+//!
+//! The roll is required: it cannot be derived from the other columns exactly (for a cone on
+//! knife-edge rails φ = (r_R − r_L)/(2 l0), but real profiles' contact points move up and down
+//! the rail head, which changes φ; see `studies/tables/dtu-rsgeo-1o40.csv` for how it was
+//! derived there from the contact heights). The equations of motion (MODEL §4–8) use δ_R,
+//! which already contains φ; the roll column is carried for output.
+//!
+//! Rows must have strictly increasing y and cover both signs of y: the table is the **right**
+//! wheel's (MODEL §1: y > 0 moves the wheelset towards the right rail, the right wheel's flange
+//! approaches its rail, δ_R and r_R grow), and the left wheel is r_L(y) = r_R(−y),
+//! δ_L(y) = δ_R(−y). A table given for the left wheel with y measured to the right is
+//! converted by y → −y (reverse the rows); radii, angles and patch data keep their values, the
+//! roll changes sign.
+//!
+//! # Interpolation
+//!
+//! Each column gets a not-a-knot cubic spline ([`CubicSpline`]): C², the data reproduced at the
+//! nodes, cubics reproduced exactly, and exact slopes for the contact table's Hermite sampling.
+//! When the file gives a, b and the normal force N_file, the semi-axes are scaled to the
+//! model's normal force N = (W/2)/cos δ (MODEL §4) by Hertz's $a ∝ N^{1/3}$ at fixed
+//! curvatures, so the axle load of the study is respected.
+
+use std::path::Path;
+
+use crate::contact::geometry::ContactPoint;
+use crate::contact::kalker::{kalker_c, CreepCoefficients, KalkerError};
+use crate::contact::spline::{CubicSpline, SplineError};
+use crate::system::scalar::{Dual, Scalar};
+
+/// A contact geometry tabulated against y, as splines (SI units).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TabulatedGeometry {
+    /// the file (or origin) the table came from, for messages
+    pub source: String,
+    radius: CubicSpline,
+    angle: CubicSpline,
+    roll: CubicSpline,
+    semi_axes: Option<(CubicSpline, CubicSpline)>,
+    kalker: Option<[CubicSpline; 3]>,
+    c33: Option<CubicSpline>,
+    normal_force: Option<CubicSpline>,
+}
+
+/// A malformed table. Every variant names the file and, where there is one, the line (1-based).
+#[derive(Debug, thiserror::Error)]
+pub enum TabulatedError {
+    #[error("cannot read geometry table {path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("{path}: no header line (only comments or blank lines)")]
+    NoHeader { path: String },
+    #[error(
+        "{path}:{line}: unknown column {column:?}; accepted names (units in the name): {accepted}"
+    )]
+    UnknownColumn {
+        path: String,
+        line: usize,
+        column: String,
+        accepted: &'static str,
+    },
+    #[error("{path}:{line}: column {column:?} repeats a quantity already given")]
+    DuplicateColumn {
+        path: String,
+        line: usize,
+        column: String,
+    },
+    #[error("{path}:{line}: missing column for {what}")]
+    MissingColumn {
+        path: String,
+        line: usize,
+        what: &'static str,
+    },
+    #[error("{path}:{line}: {found} fields, the header has {expected}")]
+    FieldCount {
+        path: String,
+        line: usize,
+        expected: usize,
+        found: usize,
+    },
+    #[error("{path}:{line}: column {column}: {text:?} is not a finite number")]
+    NotANumber {
+        path: String,
+        line: usize,
+        column: String,
+        text: String,
+    },
+    #[error("{path}:{line}: y = {y_m:e} m does not exceed the previous row's {previous_m:e} m (y must increase strictly)")]
+    NotIncreasing {
+        path: String,
+        line: usize,
+        y_m: f64,
+        previous_m: f64,
+    },
+    #[error("{path}:{line}: column {column} = {value:e} (SI): {rule}")]
+    Unphysical {
+        path: String,
+        line: usize,
+        column: String,
+        value: f64,
+        rule: &'static str,
+    },
+    #[error("{path}: {what}")]
+    Coverage { path: String, what: String },
+    #[error("{path}: column {column}: {source}")]
+    Spline {
+        path: String,
+        column: &'static str,
+        source: SplineError,
+    },
+}
+
+/// What a header column holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Quantity {
+    Y,
+    Radius,
+    RadiusDelta,
+    Angle,
+    Roll,
+    SemiA,
+    SemiB,
+    C11,
+    C22,
+    C23,
+    C33,
+    Normal,
+}
+
+const ACCEPTED: &str = "y_m, y_mm, r_m, r_mm, r_minus_r0_m, r_minus_r0_mm, delta_rad, delta_deg, \
+roll_rad, roll_deg, a_m, a_mm, b_m, b_mm, c11, c22, c23, c33, normal_force_N, normal_force_kN";
+
+/// Column name → (quantity, factor to SI).
+fn column(name: &str) -> Option<(Quantity, f64)> {
+    use Quantity::*;
+    let deg = std::f64::consts::PI / 180.0;
+    Some(match name {
+        "y_m" => (Y, 1.0),
+        "y_mm" => (Y, 1e-3),
+        "r_m" => (Radius, 1.0),
+        "r_mm" => (Radius, 1e-3),
+        "r_minus_r0_m" => (RadiusDelta, 1.0),
+        "r_minus_r0_mm" => (RadiusDelta, 1e-3),
+        "delta_rad" => (Angle, 1.0),
+        "delta_deg" => (Angle, deg),
+        "roll_rad" => (Roll, 1.0),
+        "roll_deg" => (Roll, deg),
+        "a_m" => (SemiA, 1.0),
+        "a_mm" => (SemiA, 1e-3),
+        "b_m" => (SemiB, 1.0),
+        "b_mm" => (SemiB, 1e-3),
+        "c11" => (C11, 1.0),
+        "c22" => (C22, 1.0),
+        "c23" => (C23, 1.0),
+        "c33" => (C33, 1.0),
+        "normal_force_N" => (Normal, 1.0),
+        "normal_force_kN" => (Normal, 1e3),
+        _ => return None,
+    })
+}
+
+/// The parsed columns in SI, by quantity.
+struct Columns {
+    header_line: usize,
+    names: Vec<String>,
+    kinds: Vec<(Quantity, f64)>,
+    data: Vec<Vec<f64>>,
+}
+
+impl Columns {
+    fn get(&self, q: Quantity) -> Option<&[f64]> {
+        self.kinds
+            .iter()
+            .position(|k| k.0 == q)
+            .map(|i| self.data[i].as_slice())
+    }
+}
+
+fn parse_header(path: &str, line: usize, text: &str) -> Result<Columns, TabulatedError> {
+    let names: Vec<String> = text.split(',').map(|s| s.trim().to_string()).collect();
+    let mut kinds: Vec<(Quantity, f64)> = Vec::new();
+    for name in &names {
+        let kind = column(name).ok_or_else(|| TabulatedError::UnknownColumn {
+            path: path.into(),
+            line,
+            column: name.clone(),
+            accepted: ACCEPTED,
+        })?;
+        let same = |q: Quantity| matches!(q, Quantity::Radius | Quantity::RadiusDelta);
+        if kinds
+            .iter()
+            .any(|k| k.0 == kind.0 || (same(k.0) && same(kind.0)))
+        {
+            return Err(TabulatedError::DuplicateColumn {
+                path: path.into(),
+                line,
+                column: name.clone(),
+            });
+        }
+        kinds.push(kind);
+    }
+    Ok(Columns {
+        header_line: line,
+        data: vec![Vec::new(); names.len()],
+        names,
+        kinds,
+    })
+}
+
+/// Reads the header and the rows, converting to SI and checking y's order.
+fn read_columns(text: &str, path: &str) -> Result<Columns, TabulatedError> {
+    let mut cols: Option<Columns> = None;
+    let mut last_y: Option<f64> = None;
+    for (k, raw) in text.lines().enumerate() {
+        let line = k + 1;
+        let l = raw.trim();
+        if l.is_empty() || l.starts_with('#') {
+            continue;
+        }
+        let Some(c) = cols.as_mut() else {
+            cols = Some(parse_header(path, line, l)?);
+            continue;
+        };
+        let fields: Vec<&str> = l.split(',').map(str::trim).collect();
+        if fields.len() != c.names.len() {
+            return Err(TabulatedError::FieldCount {
+                path: path.into(),
+                line,
+                expected: c.names.len(),
+                found: fields.len(),
+            });
+        }
+        for (i, f) in fields.iter().enumerate() {
+            let v = f
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| TabulatedError::NotANumber {
+                    path: path.into(),
+                    line,
+                    column: c.names[i].clone(),
+                    text: (*f).into(),
+                })?;
+            let si = v * c.kinds[i].1;
+            check_physical(path, line, &c.names[i], c.kinds[i].0, si)?;
+            if c.kinds[i].0 == Quantity::Y {
+                if let Some(prev) = last_y.filter(|&p| si <= p) {
+                    return Err(TabulatedError::NotIncreasing {
+                        path: path.into(),
+                        line,
+                        y_m: si,
+                        previous_m: prev,
+                    });
+                }
+                last_y = Some(si);
+            }
+            c.data[i].push(si);
+        }
+    }
+    cols.ok_or_else(|| TabulatedError::NoHeader { path: path.into() })
+}
+
+fn check_physical(
+    path: &str,
+    line: usize,
+    name: &str,
+    q: Quantity,
+    v: f64,
+) -> Result<(), TabulatedError> {
+    use Quantity::*;
+    let rule = match q {
+        Radius | SemiA | SemiB | Normal | C11 | C22 if v <= 0.0 => "must be positive",
+        C23 | C33 if v < 0.0 => "must not be negative",
+        Angle | Roll if v.abs() >= std::f64::consts::FRAC_PI_2 => "must lie in (−π/2, π/2)",
+        _ => return Ok(()),
+    };
+    Err(TabulatedError::Unphysical {
+        path: path.into(),
+        line,
+        column: name.into(),
+        value: v,
+        rule,
+    })
+}
+
+impl TabulatedGeometry {
+    /// Reads a table file; `r0` (m) converts an `r_minus_r0` column.
+    pub fn read(path: &Path, r0: f64) -> Result<Self, TabulatedError> {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| TabulatedError::Io {
+            path: name.clone(),
+            source,
+        })?;
+        Self::parse(&text, &name, r0)
+    }
+
+    /// Parses table text; `origin` names it in messages.
+    pub fn parse(text: &str, origin: &str, r0: f64) -> Result<Self, TabulatedError> {
+        let c = read_columns(text, origin)?;
+        let missing = |what| TabulatedError::MissingColumn {
+            path: origin.into(),
+            line: c.header_line,
+            what,
+        };
+        let y = c
+            .get(Quantity::Y)
+            .ok_or_else(|| missing("y (y_m or y_mm)"))?;
+        let radius: Vec<f64> = match (c.get(Quantity::Radius), c.get(Quantity::RadiusDelta)) {
+            (Some(r), _) => r.to_vec(),
+            (None, Some(dr)) => dr.iter().map(|d| r0 + d).collect(),
+            (None, None) => return Err(missing("the rolling radius (r_m, r_minus_r0_m, ...)")),
+        };
+        let angle = c
+            .get(Quantity::Angle)
+            .ok_or_else(|| missing("the contact angle (delta_rad or delta_deg)"))?;
+        let roll = c
+            .get(Quantity::Roll)
+            .ok_or_else(|| missing("the roll (roll_rad or roll_deg)"))?;
+        if y[0] >= 0.0 || y[y.len() - 1] <= 0.0 {
+            return Err(TabulatedError::Coverage {
+                path: origin.into(),
+                what: format!(
+                    "y runs from {:e} m to {:e} m; the table must cover both signs of y (the left wheel uses r_R(−y))",
+                    y[0],
+                    y[y.len() - 1]
+                ),
+            });
+        }
+        let spline = |column: &'static str, v: &[f64]| {
+            CubicSpline::new(y, v).map_err(|source| TabulatedError::Spline {
+                path: origin.into(),
+                column,
+                source,
+            })
+        };
+        let pair = |qa, qb, what| match (c.get(qa), c.get(qb)) {
+            (Some(_), Some(_)) | (None, None) => Ok(()),
+            _ => Err(missing(what)),
+        };
+        pair(
+            Quantity::SemiA,
+            Quantity::SemiB,
+            "the other Hertz semi-axis (a and b go together)",
+        )?;
+        pair(
+            Quantity::C11,
+            Quantity::C22,
+            "Kalker's C11, C22, C23 (all three go together)",
+        )?;
+        pair(
+            Quantity::C22,
+            Quantity::C23,
+            "Kalker's C11, C22, C23 (all three go together)",
+        )?;
+        let kalker = match (
+            c.get(Quantity::C11),
+            c.get(Quantity::C22),
+            c.get(Quantity::C23),
+        ) {
+            (Some(a), Some(b), Some(d)) => {
+                Some([spline("c11", a)?, spline("c22", b)?, spline("c23", d)?])
+            }
+            _ => None,
+        };
+        let semi_axes = match (c.get(Quantity::SemiA), c.get(Quantity::SemiB)) {
+            (Some(a), Some(b)) => Some((spline("a", a)?, spline("b", b)?)),
+            _ => None,
+        };
+        if kalker.is_some() && semi_axes.is_none() {
+            return Err(missing(
+                "the Hertz semi-axes a, b (Kalker's C need them: f11 = G a b C11)",
+            ));
+        }
+        Ok(Self {
+            source: origin.into(),
+            radius: spline("r", &radius)?,
+            angle: spline("delta", angle)?,
+            roll: spline("roll", roll)?,
+            semi_axes,
+            kalker,
+            c33: c.get(Quantity::C33).map(|v| spline("c33", v)).transpose()?,
+            normal_force: c
+                .get(Quantity::Normal)
+                .map(|v| spline("normal_force", v))
+                .transpose()?,
+        })
+    }
+
+    /// The tabulated y range (m).
+    pub fn range(&self) -> (f64, f64) {
+        self.radius.range()
+    }
+
+    /// Largest half-width Y (m) such that [−Y, Y] lies inside the table.
+    pub fn half_width(&self) -> f64 {
+        let (lo, hi) = self.range();
+        (-lo).min(hi)
+    }
+
+    /// The file's rows: (y, r, δ, φ) in SI, for round-trip checks.
+    pub fn nodes(&self) -> Vec<[f64; 4]> {
+        let (y, r) = self.radius.knots();
+        let d = self.angle.knots().1;
+        let p = self.roll.knots().1;
+        (0..y.len()).map(|i| [y[i], r[i], d[i], p[i]]).collect()
+    }
+
+    /// Whether the file gives the Hertz semi-axes.
+    pub fn has_semi_axes(&self) -> bool {
+        self.semi_axes.is_some()
+    }
+
+    /// Whether the file gives Kalker's C11, C22, C23.
+    pub fn has_kalker(&self) -> bool {
+        self.kalker.is_some()
+    }
+
+    /// The right wheel's contact point at `y` with exact spline slopes.
+    pub fn point(&self, y: f64) -> ContactPoint<Dual<1>> {
+        let d = |s: &CubicSpline| {
+            let (re, eps) = s.eval(y);
+            Dual { re, eps: [eps] }
+        };
+        ContactPoint {
+            radius: d(&self.radius),
+            angle: d(&self.angle),
+            roll: d(&self.roll),
+            // the contact point's position on the wheel is not tabulated
+            wheel_offset: Dual::cst(f64::NAN),
+        }
+    }
+
+    /// Hertz semi-axes (a, b) at `y` for the model's normal force `normal` (N), if tabulated.
+    pub fn semi_axes(&self, y: f64, normal: Dual<1>) -> Option<(Dual<1>, Dual<1>)> {
+        let (sa, sb) = self.semi_axes.as_ref()?;
+        let d = |s: &CubicSpline| {
+            let (re, eps) = s.eval(y);
+            Dual { re, eps: [eps] }
+        };
+        let (a, b) = (d(sa), d(sb));
+        Some(match &self.normal_force {
+            // Hertz: a, b ∝ N^{1/3} at fixed curvatures
+            Some(n) => {
+                let ratio = normal / d(n);
+                let scale = ratio.lift(ratio.re.cbrt(), ratio.re.cbrt() / (3.0 * ratio.re));
+                (a * scale, b * scale)
+            }
+            None => (a, b),
+        })
+    }
+
+    /// Creep coefficients from the tabulated Kalker C at `y` and the patch (a, b) (MODEL §5);
+    /// C33 from Kalker's table at a/b when the file has none. `None`: no C in the file.
+    pub fn creep(
+        &self,
+        y: f64,
+        a: Dual<1>,
+        b: Dual<1>,
+        shear_modulus: f64,
+        poisson_ratio: f64,
+    ) -> Option<Result<CreepCoefficients<Dual<1>>, KalkerError>> {
+        let [s11, s22, s23] = self.kalker.as_ref()?;
+        let d = |s: &CubicSpline| {
+            let (re, eps) = s.eval(y);
+            Dual { re, eps: [eps] }
+        };
+        let c33 = match &self.c33 {
+            Some(s) => d(s),
+            None => match kalker_c(a / b, poisson_ratio) {
+                Ok(c) => c[3],
+                Err(e) => return Some(Err(e)),
+            },
+        };
+        let ab = a * b;
+        let gab = ab * shear_modulus;
+        Some(Ok(CreepCoefficients {
+            f11: gab * d(s11),
+            f22: gab * d(s22),
+            f23: gab * ab.sqrt() * d(s23),
+            f33: gab * ab * c33,
+        }))
+    }
+}
