@@ -499,3 +499,30 @@ impl TabulatedGeometry {
         }))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TABLE: &str = "y_mm,r_mm,delta_rad,roll_rad,a_mm,b_mm,c11,c22,c23,normal_force_kN\n\
+        -3,460,0.05,0,6,4,4.2,3.7,1.6,50\n-1,460,0.05,0,6,4,4.2,3.7,1.6,50\n\
+        1,460,0.05,0,6,4,4.2,3.7,1.6,50\n3,460,0.05,0,6,4,4.2,3.7,1.6,50\n";
+
+    /// Hertz: a, b ∝ N^{1/3}; eight times the file's load doubles the semi-axes, and
+    /// f11 = G a b C11 follows (MODEL §5).
+    #[test]
+    fn semi_axes_follow_the_model_normal_force() {
+        let t = TabulatedGeometry::parse(TABLE, "t.csv", 0.46).expect("valid");
+        let n = Dual::<1>::var(8.0 * 50e3, 0);
+        let (a, b) = t.semi_axes(0.0, n).expect("tabulated");
+        assert!((a.re - 0.012).abs() < 1e-15 && (b.re - 0.008).abs() < 1e-15);
+        // d a / d N = a / (3N)
+        assert!((a.eps[0] - 0.012 / (3.0 * 4e5)).abs() < 1e-20);
+        let f = t
+            .creep(0.0, a, b, 8e10, 0.3)
+            .expect("tabulated C")
+            .expect("C33 from Kalker's table");
+        assert!((f.f11.re - 8e10 * 0.012 * 0.008 * 4.2).abs() < 1e-6 * f.f11.re);
+        assert!((f.f23.re - 8e10 * (0.012f64 * 0.008).powf(1.5) * 1.6).abs() < 1e-6 * f.f23.re);
+    }
+}
