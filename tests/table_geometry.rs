@@ -348,3 +348,25 @@ fn the_committed_dtu_table_is_the_documented_conversion() {
         assert!((c[2] - (s[2] + roll)).abs() < 1e-15, "row {i}: delta");
     }
 }
+
+/// No published critical speed was found for a single wheelset on this table (docs/VALIDATION.md
+/// section 6), so the DTU study is checked against the one independent reference MODEL §9 gives:
+/// with stiff primary springs the hunting wavelength at V_L is near Klingel's kinematic
+/// wavelength 2π√(r0 l0/λ_e), λ_e = dr_R/dy(0) of the table.
+#[test]
+fn dtu_wheelset_hunts_at_the_kinematic_wavelength() {
+    let plan = dtu_plan();
+    let model = plan.model().expect("model");
+    let law = CreepLaw::Kalker;
+    let sys = LinearSystem::at_centre(&model.with_law(law));
+    let c = *critical_speeds(&sys, law, &plan.linear)
+        .expect("search")
+        .critical()
+        .expect("V_L in range");
+    let lk = 2.0 * std::f64::consts::PI * (0.4248829 * 0.75 / model.centre_conicity()).sqrt();
+    assert!(
+        (c.wavelength_m / lk - 1.0).abs() < 0.01,
+        "{} m vs {lk} m",
+        c.wavelength_m
+    );
+}
