@@ -218,7 +218,12 @@ pub fn plan(p: &Plan) -> String {
         ),
         CreepSource::Hertz => line(
             "contact.creep_coefficients",
-            "from the Hertz patch and Kalker's table at each contact state".into(),
+            match &c.geometry {
+                Geometry::Table(t) if t.has_kalker() => {
+                    "from the geometry table's a, b and Kalker C at each contact state (C33 from Kalker's table unless tabulated)".into()
+                }
+                _ => "from the Hertz patch and Kalker's table at each contact state".into(),
+            },
         ),
     }
     line("contact.lateral_range", format!("{} m", c.lateral_range));
