@@ -370,3 +370,34 @@ fn dtu_wheelset_hunts_at_the_kinematic_wavelength() {
         c.wavelength_m
     );
 }
+
+/// Study keys that do not fit the table geometry are refused with the key and the rule.
+#[test]
+fn table_study_keys_are_checked() {
+    let dtu =
+        std::fs::read_to_string(root().join("studies/dtu-rsgeo-wheelset.toml")).expect("DTU study");
+    let folder = root().join("studies");
+    let err = |text: &str| {
+        study::parse_in(text, "s.toml", Some(&folder))
+            .map(|_| ())
+            .unwrap_err()
+            .to_string()
+    };
+    let e = err(&dtu.replace("lateral_range = \"8 mm\"", "lateral_range = \"20 mm\""));
+    assert!(
+        e.contains("contact.lateral_range") && e.contains("0.017"),
+        "{e}"
+    );
+    let e = err(&dtu.replace(
+        "\ngeometry = \"table\"\n",
+        "\ngeometry = \"table\"\nconicity = 0.05\n",
+    ));
+    assert!(e.contains("contact.conicity") && e.contains("table"), "{e}");
+    let e = err(&dtu.replace(
+        "\ngeometry = \"table\"\n",
+        "\ngeometry = \"cone\"\nconicity = 0.05\n",
+    ));
+    assert!(e.contains("contact.geometry_table"), "{e}");
+    let e = err(&dtu.replace("geometry_table = \"tables/dtu-rsgeo-1o40.csv\"\n", ""));
+    assert!(e.contains("contact.geometry_table is missing"), "{e}");
+}
