@@ -401,3 +401,48 @@ fn table_study_keys_are_checked() {
     let e = err(&dtu.replace("geometry_table = \"tables/dtu-rsgeo-1o40.csv\"\n", ""));
     assert!(e.contains("contact.geometry_table is missing"), "{e}");
 }
+
+/// The exact Jacobian of the tabulated model (spline slopes through the Hermite contact table)
+/// agrees with central differences of f; and with spin off, the Shen law's Hopf speed is the
+/// Kalker critical speed (MODEL §5: no centred spin creep, so no pre-saturation).
+#[test]
+fn tabulated_model_jacobian_and_spin_free_identity() {
+    let mut plan = dtu_plan();
+    let model = plan.model().expect("model");
+    let h = [1e-7, 1e-7, 1e-6, 1e-6];
+    for x in [[1e-3, 2e-4, 0.01, -0.003], [-4.3e-3, -1e-3, 0.2, 0.01]] {
+        let xv = nalgebra::Vector4::from(x);
+        let (jac, _) = model.jacobian(&xv, 60.0);
+        for j in 0..4 {
+            let mut p = xv;
+            let mut m = xv;
+            p[j] += h[j];
+            m[j] -= h[j];
+            let fd = (model.rhs_vec(&p, 60.0) - model.rhs_vec(&m, 60.0)) / (2.0 * h[j]);
+            for i in 0..4 {
+                let scale = jac.column(j).amax().max(1.0);
+                assert!(
+                    (jac[(i, j)] - fd[i]).abs() <= 1e-5 * scale,
+                    "x = {x:?}, J[{i}][{j}] = {} vs {}",
+                    jac[(i, j)],
+                    fd[i]
+                );
+            }
+        }
+    }
+    plan.contact.spin = false;
+    let model = plan.model().expect("model");
+    let speed = |law| {
+        let sys = LinearSystem::at_centre(&model.with_law(law));
+        critical_speeds(&sys, law, &plan.linear)
+            .expect("search")
+            .critical()
+            .expect("in range")
+            .speed_m_s
+    };
+    let (k, s) = (
+        speed(CreepLaw::Kalker),
+        speed(CreepLaw::Shen { friction: 0.3 }),
+    );
+    assert!((k - s).abs() <= 1e-9 * k, "Kalker {k} m/s, Shen {s} m/s");
+}
