@@ -338,3 +338,26 @@ fn tabulated_model_jacobian_and_spin_free_identity() {
     );
     assert!((k - s).abs() <= 1e-9 * k, "Kalker {k} m/s, Shen {s} m/s");
 }
+
+/// A spline through a step in the semi-axis b undershoots below zero between rows; the contact
+/// table refuses it, naming the table, y and the column, instead of using a negative patch.
+#[test]
+fn an_undershooting_spline_is_refused() {
+    let ys = grid(11, 0.01);
+    let text = table_text("y_m,r_m,delta_rad,roll_rad,a_mm,b_mm", &ys, |y| {
+        let b = if y <= 0.0 { 4.0 } else { 0.05 };
+        vec![y, 0.46 + 0.05 * y, 0.05 + 0.07 * y, 0.07 * y, 6.0, b]
+    });
+    let dir = std::env::temp_dir().join(format!("critspeed-step-table-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("step.csv");
+    std::fs::write(&path, text).expect("write table");
+    let study = study_text(&format!(
+        "geometry = \"table\"\ngeometry_table = {:?}",
+        path.display().to_string()
+    ));
+    let plan = study::parse(&study, "step").expect("study");
+    let e = plan.model().map(|_| ()).unwrap_err().to_string();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(e.contains("step.csv") && e.contains("column b"), "{e}");
+}

@@ -76,6 +76,13 @@ pub enum TableError {
     Kalker { y_m: f64, source: KalkerError },
     #[error("creep coefficients are needed: give [contact.creep_coefficients] or a rail head radius for the Hertz patch")]
     NoCreepCoefficients,
+    #[error("geometry table {table}: at y = {y_m:.6e} m the interpolated column {column} is {value:e}, not positive (the spline undershoots between steep rows; use finer rows or a smaller lateral_range)")]
+    NonPositive {
+        table: String,
+        y_m: f64,
+        column: &'static str,
+        value: f64,
+    },
 }
 
 /// One node's full contact state, for output.
@@ -295,6 +302,14 @@ fn node_columns(
         Geometry::Table(t) => Some(t.as_ref()),
         _ => None,
     };
+    if let Some((column, value)) = tabulated.and_then(|t| t.non_positive_at(y)) {
+        return Err(TableError::NonPositive {
+            table: tabulated.map_or_else(String::new, |t| t.source.clone()),
+            y_m: y,
+            column,
+            value,
+        });
+    }
     let patch = match tabulated.and_then(|t| t.semi_axes(y, normal)) {
         Some(ab) => Some(ab),
         None => hertz_from_rail(p, normal, geometry, spec, y)?,

@@ -210,6 +210,29 @@ impl TabulatedGeometry {
         }
     }
 
+    /// The first interpolated contact quantity at `y` that is not positive (a spline through
+    /// positive data can undershoot between steep rows): its column name and value.
+    pub fn non_positive_at(&self, y: f64) -> Option<(&'static str, f64)> {
+        let mut cols: Vec<(&'static str, &CubicSpline, bool)> = Vec::new();
+        if let Some((a, b)) = &self.semi_axes {
+            cols.extend([("a", a, true), ("b", b, true)]);
+        }
+        if let Some([c11, c22, c23]) = &self.kalker {
+            cols.extend([("c11", c11, true), ("c22", c22, true), ("c23", c23, false)]);
+        }
+        if let Some(c33) = &self.c33 {
+            cols.push(("c33", c33, false));
+        }
+        if let Some(n) = &self.normal_force {
+            cols.push(("normal_force", n, true));
+        }
+        cols.into_iter().find_map(|(name, s, strict)| {
+            let v = s.eval(y).0;
+            let bad = if strict { v <= 0.0 } else { v < 0.0 };
+            bad.then_some((name, v))
+        })
+    }
+
     /// Hertz semi-axes (a, b) at `y` for the model's normal force `normal` (N), if tabulated.
     pub fn semi_axes(&self, y: f64, normal: Dual<1>) -> Option<(Dual<1>, Dual<1>)> {
         let (sa, sb) = self.semi_axes.as_ref()?;
