@@ -392,11 +392,14 @@ fn fill(report: &mut BifurcationReport, branch: &Branch<4>, model: &Wheelset, od
 }
 
 /// MODEL §9: the lowest speed at which a stable cycle exists: the supercritical Hopf speed, a
-/// located fold next to a stable stretch, or else the lowest stable computed cycle.
+/// located fold next to a stable stretch, or else the lowest stable computed cycle, whichever is
+/// lowest. A supercritical branch can fold back below its Hopf point further on (flange contact
+/// of real profiles does this): its stable cycles there set V_NL, not the Hopf speed.
 fn nonlinear_critical_speed(r: &BifurcationReport) -> Option<(f64, bool)> {
-    if r.hopf_type == Some(HopfType::Supercritical) && r.cycles.first().is_some_and(|c| c.stable) {
-        return r.hopf.map(|h| (h.speed_m_s, true));
-    }
+    let hopf = (r.hopf_type == Some(HopfType::Supercritical)
+        && r.cycles.first().is_some_and(|c| c.stable))
+    .then(|| r.hopf.map(|h| (h.speed_m_s, true)))
+    .flatten();
     let folds = r
         .special
         .iter()
@@ -412,5 +415,6 @@ fn nonlinear_critical_speed(r: &BifurcationReport) -> Option<(f64, bool)> {
     folds
         .filter(|(v, _)| *v <= lowest_stable + 1e-9 * lowest_stable.abs().max(1.0))
         .chain(stable)
+        .chain(hopf)
         .min_by(|a, b| a.0.total_cmp(&b.0))
 }
