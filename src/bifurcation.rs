@@ -418,3 +418,69 @@ fn nonlinear_critical_speed(r: &BifurcationReport) -> Option<(f64, bool)> {
         .chain(hopf)
         .min_by(|a, b| a.0.total_cmp(&b.0))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::stability::Direction;
+
+    fn cycle(speed_m_s: f64, stable: bool) -> CycleRow {
+        CycleRow {
+            speed_m_s,
+            amplitude_y_m: 1e-3,
+            amplitude_psi_rad: 1e-3,
+            period_s: 0.1,
+            stable,
+            max_multiplier_abs: if stable { 0.5 } else { 2.0 },
+            trivial_multiplier_error: 0.0,
+            newton_iterations: 2,
+            x0: [0.0; 4],
+            multipliers: [(1.0, 0.0); 4],
+        }
+    }
+
+    fn fold(speed_m_s: f64) -> SpecialRow {
+        SpecialRow {
+            kind: SpecialKind::Fold,
+            speed_m_s,
+            amplitude_y_m: 5e-3,
+            located: true,
+        }
+    }
+
+    /// A supercritical branch (stable from V_H = 100) that turns back at 110, comes down to a
+    /// fold at 80 and is stable again above it: the lowest stable cycle is near 80, so V_NL is the
+    /// fold at 80 (MODEL §9), not the Hopf speed. Without the fold-back V_NL is V_H.
+    #[test]
+    fn nonlinear_critical_speed_is_the_lowest_stable_cycle() {
+        let hopf = Crossing {
+            speed_m_s: 100.0,
+            frequency_hz: 5.0,
+            wavelength_m: 20.0,
+            direction: Direction::Onset,
+            bracket_m_s: 1e-12,
+        };
+        let mut r = BifurcationReport {
+            study: "synthetic".into(),
+            law: CreepLaw::Shen { friction: 0.3 },
+            kalker_critical_speed_m_s: Some(100.0),
+            hopf: Some(hopf),
+            hopf_type: Some(HopfType::Supercritical),
+            nonlinear_critical_speed: None,
+            cycles: vec![cycle(100.5, true), cycle(110.0, true), cycle(95.0, false)],
+            special: vec![fold(110.2)],
+            stop_reason: String::new(),
+            speed_range: (1.0, 200.0),
+        };
+        let v = nonlinear_critical_speed(&r).map(|v| v.0);
+        assert!(v.is_some_and(|v| (v - 100.0).abs() < 1e-12), "{v:?}");
+        r.cycles
+            .extend([cycle(80.0, false), cycle(80.5, true), cycle(90.0, true)]);
+        r.special.push(fold(79.9));
+        let v = nonlinear_critical_speed(&r);
+        assert!(
+            v.is_some_and(|(v, located)| (v - 79.9).abs() < 1e-12 && located),
+            "{v:?}"
+        );
+    }
+}
