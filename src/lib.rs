@@ -50,6 +50,7 @@ pub mod reference;
 pub mod simulate;
 pub mod stability;
 pub mod study;
+pub mod sweep;
 pub mod system;
 #[cfg(test)]
 mod testutil;

@@ -116,7 +116,7 @@ pub fn parse(text: &str, origin: &str) -> Result<Plan, StudyError> {
     plan(file)
 }
 
-fn quantity(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
+pub(crate) fn quantity(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
     let v = match q {
         Quantity::Number(v) => Ok(*v),
         Quantity::Text(t) => parse_quantity(t, dim),
@@ -168,7 +168,7 @@ fn non_negative(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyErr
 }
 
 /// The cone slope: a number, or a ratio string such as "1:20" or "1/40".
-fn conicity(q: &Quantity) -> Result<f64, StudyError> {
+pub(crate) fn conicity(q: &Quantity) -> Result<f64, StudyError> {
     const KEY: &str = "contact.conicity";
     let v = match q {
         Quantity::Text(t) if t.contains([':', '/']) => {
@@ -199,7 +199,7 @@ fn conicity(q: &Quantity) -> Result<f64, StudyError> {
     }
 }
 
-fn plan(f: StudyFile) -> Result<Plan, StudyError> {
+pub(crate) fn plan(f: StudyFile) -> Result<Plan, StudyError> {
     if f.name.is_empty()
         || !f
             .name

@@ -1,0 +1,447 @@
+//! The `[sweep]` section resolved: axes in SI, the grid, per-point study plans, the fingerprint.
+
+use crate::contact::table::ContactTable;
+use crate::model::Wheelset;
+use crate::study::schema::{Quantity, StudyFile, SweepAxisSection, SweepSection};
+use crate::study::units::Dimension;
+use crate::study::{self, Plan};
+
+use super::SweepError;
+
+/// The numeric study keys a sweep may vary, with the dimension of their values.
+pub const SWEEP_KEYS: &[(&str, Dimension)] = &[
+    ("wheelset.mass", Dimension::Mass),
+    ("wheelset.yaw_inertia", Dimension::Inertia),
+    ("wheelset.axle_load", Dimension::Force),
+    ("wheelset.half_contact_distance", Dimension::Length),
+    ("wheelset.rolling_radius", Dimension::Length),
+    ("suspension.lateral_stiffness", Dimension::Stiffness),
+    ("suspension.longitudinal_stiffness", Dimension::Stiffness),
+    ("suspension.lateral_damping", Dimension::Damping),
+    ("suspension.longitudinal_damping", Dimension::Damping),
+    ("suspension.half_spring_spacing", Dimension::Length),
+    ("contact.conicity", Dimension::Dimensionless),
+    ("contact.rail_head_radius", Dimension::Length),
+    ("contact.crown_offset", Dimension::Length),
+    ("contact.friction", Dimension::Dimensionless),
+    ("contact.young_modulus", Dimension::Pressure),
+    ("contact.poisson_ratio", Dimension::Dimensionless),
+    ("contact.shear_modulus", Dimension::Pressure),
+    ("contact.lateral_range", Dimension::Length),
+    ("contact.creep_coefficients.f11", Dimension::Force),
+    ("contact.creep_coefficients.f22", Dimension::Force),
+    ("contact.creep_coefficients.f23", Dimension::ForceLength),
+    ("contact.creep_coefficients.f33", Dimension::ForceArea),
+    ("flange.clearance", Dimension::Length),
+    ("flange.stiffness", Dimension::Stiffness),
+];
+
+/// The dimension of a sweepable key, or `None` when the key cannot be swept.
+pub fn key_dimension(key: &str) -> Option<Dimension> {
+    SWEEP_KEYS.iter().find(|(k, _)| *k == key).map(|(_, d)| *d)
+}
+
+/// The SI unit as a column-name suffix: `N/m` → `_n_per_m`, `kg m^2` → `_kg_m2`, `""` → `""`.
+pub fn unit_suffix(dim: Dimension) -> String {
+    let u = dim.si_unit();
+    if u.is_empty() {
+        return String::new();
+    }
+    let s = u
+        .to_ascii_lowercase()
+        .replace('/', " per ")
+        .replace('^', "")
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join("_");
+    format!("_{s}")
+}
+
+/// Spacing of the values along an axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Spacing {
+    /// `from + (to − from)·i/(n − 1)`
+    Linear,
+    /// `from·(to/from)^(i/(n − 1))`
+    Log,
+}
+
+/// One resolved axis: its key and its values in SI.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Axis {
+    /// dotted study key
+    pub key: String,
+    /// dimension of the values
+    pub dim: Dimension,
+    /// spacing
+    pub spacing: Spacing,
+    /// the values, SI units of `dim`
+    pub values: Vec<f64>,
+}
+
+impl Axis {
+    /// The CSV column name: key plus SI unit suffix.
+    pub fn column(&self) -> String {
+        format!("{}{}", self.key, unit_suffix(self.dim))
+    }
+
+    /// Axis label for plots, with the unit.
+    pub fn label(&self) -> String {
+        match self.dim.si_unit() {
+            "" => format!("{} (–)", self.key),
+            u => format!("{} ({u})", self.key),
+        }
+    }
+}
+
+/// Which results a sweep computes at each point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Compute {
+    /// Kalker (linear) critical speed V_L
+    pub kalker: bool,
+    /// Hopf speed of the study's creep law
+    pub hopf: bool,
+    /// nonlinear critical speed V_NL from the continuation (expensive)
+    pub nonlinear: bool,
+}
+
+/// A resolved `[sweep]` section.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepSpec {
+    /// one or two axes; point id = i0 + n0·i1
+    pub axes: Vec<Axis>,
+    /// results computed
+    pub compute: Compute,
+    /// operating speed (m/s), if given
+    pub operating_speed: Option<f64>,
+}
+
+impl SweepSpec {
+    /// Number of grid points.
+    pub fn len(&self) -> usize {
+        self.axes.iter().map(|a| a.values.len()).product()
+    }
+
+    /// Whether the grid is empty (never, after validation).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Axis values (SI) of point `id` (its grid index; the first axis varies fastest).
+    pub fn values(&self, id: usize) -> Vec<f64> {
+        let mut rest = id;
+        self.axes
+            .iter()
+            .map(|a| {
+                let n = a.values.len();
+                let v = a.values[rest % n];
+                rest /= n;
+                v
+            })
+            .collect()
+    }
+}
+
+/// Grid values by index (the last value is `to` exactly).
+pub fn grid(from: f64, to: f64, count: usize, spacing: Spacing) -> Vec<f64> {
+    (0..count)
+        .map(|i| {
+            if i + 1 == count && count > 1 {
+                return to;
+            }
+            let t = if count > 1 {
+                i as f64 / (count - 1) as f64
+            } else {
+                0.0
+            };
+            match spacing {
+                Spacing::Linear => from + (to - from) * t,
+                Spacing::Log => from * (to / from).powf(t),
+            }
+        })
+        .collect()
+}
+
+fn axis_error(i: usize, key: &str, rule: String) -> SweepError {
+    SweepError::Axis {
+        axis: format!("sweep.axes[{i}] ({key})"),
+        rule,
+    }
+}
+
+fn axis_value(
+    i: usize,
+    a: &SweepAxisSection,
+    end: &str,
+    q: &Quantity,
+    dim: Dimension,
+) -> Result<f64, SweepError> {
+    let name = format!("sweep.axes[{i}].{end} ({})", a.key);
+    if a.key == "contact.conicity" {
+        if let Quantity::Text(t) = q {
+            if t.contains([':', '/']) {
+                return study::conicity(q).map_err(|e| SweepError::Axis {
+                    axis: name,
+                    rule: e.to_string(),
+                });
+            }
+        }
+    }
+    study::quantity(&name, q, dim).map_err(SweepError::Study)
+}
+
+fn resolve_axis(i: usize, a: &SweepAxisSection) -> Result<Axis, SweepError> {
+    let dim = key_dimension(&a.key).ok_or_else(|| SweepError::Key {
+        axis: format!("sweep.axes[{i}].key"),
+        key: a.key.clone(),
+        accepted: SWEEP_KEYS
+            .iter()
+            .map(|(k, _)| *k)
+            .collect::<Vec<_>>()
+            .join(", "),
+    })?;
+    let from = axis_value(i, a, "from", &a.from, dim)?;
+    let to = axis_value(i, a, "to", &a.to, dim)?;
+    if !(1..=1_000_000).contains(&a.count) {
+        return Err(axis_error(
+            i,
+            &a.key,
+            format!("count = {} must lie in [1, 1000000]", a.count),
+        ));
+    }
+    let spacing = match a.spacing.as_deref().unwrap_or("linear") {
+        "linear" | "lin" => Spacing::Linear,
+        "log" => Spacing::Log,
+        other => {
+            return Err(axis_error(
+                i,
+                &a.key,
+                format!("spacing = {other:?} is not one of \"linear\", \"log\""),
+            ))
+        }
+    };
+    if spacing == Spacing::Log && !(from * to > 0.0) {
+        return Err(axis_error(
+            i,
+            &a.key,
+            format!("log spacing needs from and to of the same sign and not zero (from = {from}, to = {to} {})", dim.si_unit()),
+        ));
+    }
+    Ok(Axis {
+        key: a.key.clone(),
+        dim,
+        spacing,
+        values: grid(from, to, a.count, spacing),
+    })
+}
+
+fn resolve_compute(c: Option<&[String]>) -> Result<Compute, SweepError> {
+    let Some(list) = c else {
+        return Ok(Compute {
+            kalker: true,
+            hopf: true,
+            nonlinear: false,
+        });
+    };
+    let mut out = Compute {
+        kalker: false,
+        hopf: false,
+        nonlinear: false,
+    };
+    for (i, name) in list.iter().enumerate() {
+        match name.as_str() {
+            "kalker" => out.kalker = true,
+            "hopf" => out.hopf = true,
+            "nonlinear" => out.nonlinear = true,
+            other => {
+                return Err(SweepError::Axis {
+                    axis: format!("sweep.compute[{i}]"),
+                    rule: format!("{other:?} is not one of \"kalker\", \"hopf\", \"nonlinear\""),
+                })
+            }
+        }
+    }
+    if !(out.kalker || out.hopf || out.nonlinear) {
+        return Err(SweepError::Axis {
+            axis: "sweep.compute".into(),
+            rule: "must name at least one result".into(),
+        });
+    }
+    Ok(out)
+}
+
+/// Resolves the section (units, grid, compute list), without the study.
+pub fn resolve(s: &SweepSection) -> Result<SweepSpec, SweepError> {
+    if !(1..=2).contains(&s.axes.len()) {
+        return Err(SweepError::Axis {
+            axis: "sweep.axes".into(),
+            rule: format!("has {} axes; a sweep has one or two", s.axes.len()),
+        });
+    }
+    let axes = s
+        .axes
+        .iter()
+        .enumerate()
+        .map(|(i, a)| resolve_axis(i, a))
+        .collect::<Result<Vec<_>, _>>()?;
+    if axes.len() == 2 && axes[0].key == axes[1].key {
+        return Err(axis_error(
+            1,
+            &axes[1].key,
+            "the two axes name the same key".into(),
+        ));
+    }
+    let operating_speed = s
+        .operating_speed
+        .as_ref()
+        .map(|q| study::quantity("sweep.operating_speed", q, Dimension::Speed))
+        .transpose()
+        .map_err(SweepError::Study)?;
+    Ok(SweepSpec {
+        axes,
+        compute: resolve_compute(s.compute.as_deref())?,
+        operating_speed,
+    })
+}
+
+/// A study with its sweep: the base plan and model, and the means to make each point's plan.
+#[derive(Clone, Debug)]
+pub struct SweepStudy {
+    /// the study without the sweep applied
+    pub base: Plan,
+    /// the resolved sweep
+    pub spec: SweepSpec,
+    /// hash of the normalised plan and sweep definition (16 hex digits)
+    pub fingerprint: String,
+    table: toml::Table,
+    base_model: Wheelset,
+}
+
+/// Sets a dotted key in a TOML table, creating sub-tables as needed.
+fn set_key(t: &mut toml::Table, key: &str, value: f64) {
+    let mut parts: Vec<&str> = key.split('.').collect();
+    let last = parts.pop().unwrap_or(key);
+    let mut cur = t;
+    for p in parts {
+        let entry = cur
+            .entry(p.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        if !entry.is_table() {
+            *entry = toml::Value::Table(toml::Table::new());
+        }
+        cur = match entry {
+            toml::Value::Table(t) => t,
+            _ => unreachable!("made a table above"),
+        };
+    }
+    cur.insert(last.to_string(), toml::Value::Float(value));
+}
+
+/// FNV-1a 64-bit hash (stable across platforms and Rust versions).
+fn fnv1a(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+impl SweepStudy {
+    /// Reads a study file with a `[sweep]` section.
+    pub fn load(path: &std::path::Path) -> Result<Self, SweepError> {
+        let text = std::fs::read_to_string(path).map_err(|source| {
+            SweepError::Study(study::StudyError::Io {
+                path: path.display().to_string(),
+                source,
+            })
+        })?;
+        Self::parse(&text, &path.display().to_string())
+    }
+
+    /// Parses study text with a `[sweep]` section; `origin` names it in messages.
+    pub fn parse(text: &str, origin: &str) -> Result<Self, SweepError> {
+        let syntax = |e: &dyn std::fmt::Display| {
+            SweepError::Study(study::StudyError::Syntax {
+                path: origin.to_string(),
+                message: e.to_string(),
+            })
+        };
+        let base = study::parse(text, origin).map_err(SweepError::Study)?;
+        let mut table: toml::Table = toml::from_str(text).map_err(|e| syntax(&e))?;
+        let file: StudyFile = toml::from_str(text).map_err(|e| syntax(&e))?;
+        let section = file.sweep.ok_or_else(|| SweepError::NoSweep {
+            path: origin.to_string(),
+        })?;
+        let spec = resolve(&section)?;
+        table.remove("sweep");
+        table.remove("trade");
+        let base_model = base.model().map_err(|e| SweepError::Model(e.to_string()))?;
+        let mut normal = base.clone();
+        normal.description.clear();
+        let fingerprint = format!(
+            "{:016x}",
+            fnv1a(&format!("{normal:?}|{:?}|{:?}", spec.axes, spec.compute))
+        );
+        let s = Self {
+            base,
+            spec,
+            fingerprint,
+            table,
+            base_model,
+        };
+        s.check_axis_values()?;
+        Ok(s)
+    }
+
+    /// Every value of each axis alone must give a valid study (names the key otherwise).
+    fn check_axis_values(&self) -> Result<(), SweepError> {
+        for (i, a) in self.spec.axes.iter().enumerate() {
+            for v in &a.values {
+                let mut t = self.table.clone();
+                set_key(&mut t, &a.key, *v);
+                self.plan_of(t).map_err(|e| SweepError::Axis {
+                    axis: format!("sweep.axes[{i}] ({})", a.key),
+                    rule: format!("value {v} {} gives an invalid study: {e}", a.dim.si_unit()),
+                })?;
+            }
+        }
+        Ok(())
+    }
+
+    fn plan_of(&self, t: toml::Table) -> Result<Plan, study::StudyError> {
+        let file: StudyFile = toml::Value::Table(t)
+            .try_into()
+            .map_err(|e: toml::de::Error| study::StudyError::Syntax {
+                path: self.base.name.clone(),
+                message: e.to_string(),
+            })?;
+        study::plan(file)
+    }
+
+    /// The validated plan of point `id`: the study with each axis key set to its value.
+    pub fn point_plan(&self, id: usize) -> Result<Plan, study::StudyError> {
+        let mut t = self.table.clone();
+        for (a, v) in self.spec.axes.iter().zip(self.spec.values(id)) {
+            set_key(&mut t, &a.key, v);
+        }
+        self.plan_of(t)
+    }
+
+    /// The model of a point's plan; the base contact table is reused when the point does not
+    /// change the geometry or the table specification (it is a function of those two only).
+    pub fn model(&self, plan: &Plan) -> Result<Wheelset, crate::contact::table::TableError> {
+        let table = if plan.contact.geometry == self.base.contact.geometry
+            && plan.table_spec() == self.base.table_spec()
+        {
+            self.base_model.table.clone()
+        } else {
+            ContactTable::build(&plan.contact.geometry, &plan.table_spec())?
+        };
+        Ok(Wheelset {
+            params: plan.wheelset,
+            suspension: plan.suspension,
+            creep_law: plan.contact.creep_law,
+            spin: plan.contact.spin,
+            flange: plan.flange,
+            table,
+        })
+    }
+}
