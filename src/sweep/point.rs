@@ -80,7 +80,7 @@ fn onset(model: &Wheelset, opts: &LinearOptions, what: &str) -> Result<(f64, f64
         .map(|c| (c.speed_m_s, c.frequency_hz))
         .ok_or_else(|| {
             format!(
-                "{what}: no onset of hunting in [{}, {}] m/s",
+                "{what}: no onset of hunting between {} and {} m/s",
                 opts.speed_range.0, opts.speed_range.1
             )
         })
