@@ -282,9 +282,10 @@ pub fn run(
     let started = Instant::now();
     let sink: Mutex<Sink> = Mutex::new((file, Vec::with_capacity(todo.len()), None));
     let failed = std::sync::atomic::AtomicUsize::new(0);
+    let spares = spec::Spares::default();
     pool.install(|| {
         todo.par_iter().for_each(|&id| {
-            let rec = point::compute(study, id);
+            let rec = point::compute(study, id, &spares);
             let mut g = sink.lock().unwrap_or_else(|e| e.into_inner());
             let (file, rows, err) = &mut *g;
             if let (Some(f), None) = (file.as_mut(), err.as_ref()) {

@@ -5,7 +5,7 @@ use crate::contact::creep::CreepLaw;
 use crate::model::Wheelset;
 use crate::stability::{critical_speeds, LinearOptions, LinearSystem};
 
-use super::spec::SweepStudy;
+use super::spec::{Spares, SweepStudy};
 
 /// The result of one grid point.
 #[derive(Clone, Debug, PartialEq)]
@@ -87,9 +87,11 @@ fn onset(model: &Wheelset, opts: &LinearOptions, what: &str) -> Result<(f64, f64
 }
 
 /// Computes point `id` of the sweep. Never fails: problems become the record's failures.
-pub fn compute(study: &SweepStudy, id: usize) -> PointRecord {
+pub fn compute(study: &SweepStudy, id: usize, spares: &Spares) -> PointRecord {
     let mut rec = PointRecord::empty(id, study.spec.values(id));
-    let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| fill(study, &mut rec)));
+    let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        fill(study, &mut rec, spares)
+    }));
     if let Err(e) = run {
         let msg = e
             .downcast_ref::<&str>()
@@ -101,22 +103,22 @@ pub fn compute(study: &SweepStudy, id: usize) -> PointRecord {
     rec
 }
 
-fn fill(study: &SweepStudy, rec: &mut PointRecord) {
+fn fill(study: &SweepStudy, rec: &mut PointRecord, spares: &Spares) {
     let plan = match study.point_plan(rec.id) {
         Ok(p) => p,
         Err(e) => return rec.failures.push(format!("invalid parameters: {e}")),
     };
-    let model = match study.model(&plan) {
+    let mut model = match study.model(&plan, spares) {
         Ok(m) => m,
         Err(e) => return rec.failures.push(format!("contact geometry: {e}")),
     };
     let c = study.spec.compute;
     if c.kalker {
-        let kalker = Wheelset {
-            creep_law: CreepLaw::Kalker,
-            ..model.clone()
-        };
-        match onset(&kalker, &plan.linear, "kalker") {
+        // the Kalker model is the study's with the law swapped (no copy of the table)
+        let law = std::mem::replace(&mut model.creep_law, CreepLaw::Kalker);
+        let found = onset(&model, &plan.linear, "kalker");
+        model.creep_law = law;
+        match found {
             Ok((v, f)) => (rec.kalker_m_s, rec.kalker_frequency_hz) = (Some(v), Some(f)),
             Err(e) => rec.failures.push(e),
         }
@@ -140,5 +142,8 @@ fn fill(study: &SweepStudy, rec: &mut PointRecord) {
             },
             Err(e) => rec.failures.push(format!("nonlinear: {e}")),
         }
+    }
+    if study.reuses_table(&plan) {
+        spares.put(model);
     }
 }

@@ -337,6 +337,35 @@ fn set_key(t: &mut toml::Table, key: &str, value: f64) {
     cur.insert(last.to_string(), toml::Value::Float(value));
 }
 
+/// Replaces each sweepable quantity written with a unit by its SI number (the value the
+/// study's own validation gives), so that the per-point plans do not parse units again.
+fn normalise(t: &mut toml::Table) {
+    for (key, dim) in SWEEP_KEYS {
+        let mut cur = &mut *t;
+        let mut parts = key.split('.').peekable();
+        while let Some(p) = parts.next() {
+            if parts.peek().is_none() {
+                if let Some(toml::Value::String(text)) = cur.get(p) {
+                    let q = Quantity::Text(text.clone());
+                    let v = if *key == "contact.conicity" {
+                        study::conicity(&q).ok()
+                    } else {
+                        study::quantity(key, &q, *dim).ok()
+                    };
+                    if let Some(v) = v {
+                        cur.insert(p.to_string(), toml::Value::Float(v));
+                    }
+                }
+                break;
+            }
+            match cur.get_mut(p) {
+                Some(toml::Value::Table(next)) => cur = next,
+                _ => break,
+            }
+        }
+    }
+}
+
 /// FNV-1a 64-bit hash (stable across platforms and Rust versions).
 fn fnv1a(text: &str) -> u64 {
     text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
@@ -373,6 +402,7 @@ impl SweepStudy {
         let spec = resolve(&section)?;
         table.remove("sweep");
         table.remove("trade");
+        normalise(&mut table);
         let base_model = base.model().map_err(|e| SweepError::Model(e.to_string()))?;
         let mut normal = base.clone();
         normal.description.clear();
@@ -425,23 +455,48 @@ impl SweepStudy {
         self.plan_of(t)
     }
 
-    /// The model of a point's plan; the base contact table is reused when the point does not
-    /// change the geometry or the table specification (it is a function of those two only).
-    pub fn model(&self, plan: &Plan) -> Result<Wheelset, crate::contact::table::TableError> {
-        let table = if plan.contact.geometry == self.base.contact.geometry
+    /// Whether a plan's contact table is the base study's (it is a function of the geometry
+    /// and the table specification only).
+    pub fn reuses_table(&self, plan: &Plan) -> bool {
+        plan.contact.geometry == self.base.contact.geometry
             && plan.table_spec() == self.base.table_spec()
-        {
-            self.base_model.table.clone()
+    }
+
+    /// The model of a point's plan. When [`Self::reuses_table`], a spare model from `spares`
+    /// (or a copy of the base model) gets the plan's parameters: the table is not rebuilt.
+    pub fn model(
+        &self,
+        plan: &Plan,
+        spares: &Spares,
+    ) -> Result<Wheelset, crate::contact::table::TableError> {
+        let mut m = if self.reuses_table(plan) {
+            spares.take().unwrap_or_else(|| self.base_model.clone())
         } else {
-            ContactTable::build(&plan.contact.geometry, &plan.table_spec())?
+            Wheelset {
+                table: ContactTable::build(&plan.contact.geometry, &plan.table_spec())?,
+                ..self.base_model.clone()
+            }
         };
-        Ok(Wheelset {
-            params: plan.wheelset,
-            suspension: plan.suspension,
-            creep_law: plan.contact.creep_law,
-            spin: plan.contact.spin,
-            flange: plan.flange,
-            table,
-        })
+        m.params = plan.wheelset;
+        m.suspension = plan.suspension;
+        m.creep_law = plan.contact.creep_law;
+        m.spin = plan.contact.spin;
+        m.flange = plan.flange;
+        Ok(m)
+    }
+}
+
+/// Models with the base study's contact table, kept between points to save copying it.
+#[derive(Debug, Default)]
+pub struct Spares(std::sync::Mutex<Vec<Wheelset>>);
+
+impl Spares {
+    fn take(&self) -> Option<Wheelset> {
+        self.0.lock().unwrap_or_else(|e| e.into_inner()).pop()
+    }
+
+    /// Returns a model whose table is the base study's.
+    pub fn put(&self, m: Wheelset) {
+        self.0.lock().unwrap_or_else(|e| e.into_inner()).push(m);
     }
 }
