@@ -267,3 +267,29 @@ fn bad_axis_key_or_unit_is_a_user_error_naming_it() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("\"3/3\""));
 }
+
+/// studies/conicity-wear.toml: wear (a steeper cone) lowers the critical speed at every step,
+/// for the Kalker model and the study's Shen law alike.
+#[test]
+fn higher_conicity_lowers_the_critical_speed() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/conicity-wear.toml");
+    let text = std::fs::read_to_string(path).expect("study").replace(
+        "\"kalker\", \"hopf\", \"nonlinear\"",
+        "\"kalker\", \"hopf\"",
+    );
+    let s = SweepStudy::parse(&text, path).expect("study");
+    let opts = SweepOptions {
+        threads: Some(2),
+        shard: Shard::ALL,
+        records: None,
+    };
+    let rows = sweep::run(&s, &opts, None).expect("sweep").rows;
+    for get in [
+        |r: &sweep::PointRecord| r.kalker_m_s,
+        |r: &sweep::PointRecord| r.hopf_m_s,
+    ] {
+        let v: Vec<f64> = rows.iter().filter_map(get).collect();
+        assert!(v.len() >= 8, "{v:?}");
+        assert!(v.windows(2).all(|w| w[1] < w[0]), "{v:?}");
+    }
+}

@@ -368,3 +368,54 @@ pub fn merge(study: &SweepStudy, files: &[PathBuf]) -> Result<Merged, SweepError
     let rows = by_id.into_iter().flatten().map(|(r, _)| r).collect();
     Ok(Merged { rows, missing })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shards_partition_the_grid() {
+        let mut all: Vec<usize> = (0..3)
+            .flat_map(|i| Shard { index: i, count: 3 }.ids(10))
+            .collect();
+        all.sort_unstable();
+        assert_eq!(all, (0..10).collect::<Vec<_>>());
+        assert_eq!(Shard::parse("1/3").expect("ok").ids(10), vec![1, 4, 7]);
+        assert!(Shard::parse("3/3").is_err());
+        assert!(Shard::parse("1-3").is_err());
+    }
+
+    #[test]
+    fn slurm_ids_map_to_shards() {
+        let env = |vars: &'static [(&'static str, &'static str)]| {
+            move |k: &str| {
+                vars.iter()
+                    .find(|(n, _)| *n == k)
+                    .map(|(_, v)| v.to_string())
+            }
+        };
+        // --array=0-7
+        let s = Shard::from_env(env(&[
+            ("SLURM_ARRAY_TASK_ID", "5"),
+            ("SLURM_ARRAY_TASK_COUNT", "8"),
+        ]));
+        assert_eq!(s.expect("ok"), Shard { index: 5, count: 8 });
+        // --array=1-8
+        let s = Shard::from_env(env(&[
+            ("SLURM_ARRAY_TASK_ID", "8"),
+            ("SLURM_ARRAY_TASK_MIN", "1"),
+            ("SLURM_ARRAY_TASK_MAX", "8"),
+            ("SLURM_ARRAY_TASK_COUNT", "8"),
+        ]));
+        assert_eq!(s.expect("ok"), Shard { index: 7, count: 8 });
+        // --array=10-16:2 (10, 12, 14, 16)
+        let s = Shard::from_env(env(&[
+            ("SLURM_ARRAY_TASK_ID", "14"),
+            ("SLURM_ARRAY_TASK_MIN", "10"),
+            ("SLURM_ARRAY_TASK_STEP", "2"),
+            ("SLURM_ARRAY_TASK_COUNT", "4"),
+        ]));
+        assert_eq!(s.expect("ok"), Shard { index: 2, count: 4 });
+        assert!(Shard::from_env(env(&[("SLURM_ARRAY_TASK_ID", "1")])).is_err());
+    }
+}

@@ -500,3 +500,85 @@ impl Spares {
         self.0.lock().unwrap_or_else(|e| e.into_inner()).push(m);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_values_follow_the_closed_forms() {
+        let lin = grid(1.0, 3.0, 5, Spacing::Linear);
+        assert_eq!(lin, vec![1.0, 1.5, 2.0, 2.5, 3.0]);
+        let log = grid(100.0, 10_000.0, 3, Spacing::Log);
+        assert_eq!(log[0], 100.0);
+        assert!((log[1] - 1000.0).abs() < 1e-9, "{log:?}");
+        assert_eq!(log[2], 10_000.0);
+        // ratio of neighbours is constant on a log axis
+        let g = grid(0.02, 0.3, 7, Spacing::Log);
+        let r: Vec<f64> = g.windows(2).map(|w| w[1] / w[0]).collect();
+        assert!(r.iter().all(|q| (q - r[0]).abs() < 1e-12 * r[0]), "{r:?}");
+        assert_eq!(grid(5.0, 9.0, 1, Spacing::Log), vec![5.0]);
+    }
+
+    #[test]
+    fn column_suffixes_spell_the_si_unit() {
+        let col = |key: &str| {
+            let dim = key_dimension(key).expect("sweepable");
+            format!("{key}{}", unit_suffix(dim))
+        };
+        assert_eq!(
+            col("suspension.longitudinal_stiffness"),
+            "suspension.longitudinal_stiffness_n_per_m"
+        );
+        assert_eq!(
+            col("suspension.lateral_damping"),
+            "suspension.lateral_damping_n_s_per_m"
+        );
+        assert_eq!(col("wheelset.yaw_inertia"), "wheelset.yaw_inertia_kg_m2");
+        assert_eq!(col("flange.clearance"), "flange.clearance_m");
+        assert_eq!(col("contact.conicity"), "contact.conicity");
+        assert!(key_dimension("linear.speed_range").is_none());
+    }
+
+    #[test]
+    fn point_ids_run_first_axis_fastest() {
+        let axis = |key: &str, values: Vec<f64>| Axis {
+            key: key.into(),
+            dim: Dimension::Dimensionless,
+            spacing: Spacing::Linear,
+            values,
+        };
+        let spec = SweepSpec {
+            axes: vec![axis("a", vec![1.0, 2.0, 3.0]), axis("b", vec![10.0, 20.0])],
+            compute: Compute {
+                kalker: true,
+                hopf: false,
+                nonlinear: false,
+            },
+            operating_speed: None,
+        };
+        assert_eq!(spec.len(), 6);
+        assert_eq!(spec.values(0), vec![1.0, 10.0]);
+        assert_eq!(spec.values(2), vec![3.0, 10.0]);
+        assert_eq!(spec.values(4), vec![2.0, 20.0]);
+    }
+
+    #[test]
+    fn ratio_conicity_and_units_on_the_axis_are_si() {
+        let text = crate::study::DEFAULT_STUDY.to_string()
+            + "\n[sweep]\naxes = [ { key = \"contact.conicity\", from = \"1:40\", to = \"1:20\", count = 2 },\n\
+               { key = \"flange.clearance\", from = \"5 mm\", to = \"10 mm\", count = 2 } ]\n";
+        // the seed has no [flange]: clearance alone is not a valid flange
+        let err = SweepStudy::parse(&text, "t").expect_err("no flange stiffness");
+        assert!(err.to_string().contains("flange.clearance"), "{err}");
+        let text = text.replace("flange.clearance", "suspension.half_spring_spacing");
+        let s = SweepStudy::parse(&text, "t").expect("valid");
+        assert_eq!(s.spec.axes[0].values, vec![1.0 / 40.0, 1.0 / 20.0]);
+        assert_eq!(s.spec.axes[1].values, vec![5e-3, 10e-3]);
+        let p = s.point_plan(3).expect("plan");
+        assert_eq!(p.contact.geometry.conicity(), 0.05);
+        assert_eq!(p.suspension.half_spring_spacing, 10e-3);
+        // everything else is the study's
+        assert_eq!(p.wheelset, s.base.wheelset);
+    }
+}
