@@ -83,7 +83,7 @@ fn sweep_points_equal_single_point_runs() {
         found += usize::from(r.ok());
     }
     // the grid has both kinds of points
-    assert!(found >= 4 && found < 9, "{found} points ok");
+    assert!((4..9).contains(&found), "{found} points ok");
 }
 
 fn critspeed(args: &[&str], cwd: &Path) -> Output {

@@ -220,7 +220,8 @@ fn resolve_axis(i: usize, a: &SweepAxisSection) -> Result<Axis, SweepError> {
             ))
         }
     };
-    if spacing == Spacing::Log && !(from * to > 0.0) {
+    // from and to are finite (checked by the unit parser)
+    if spacing == Spacing::Log && from * to <= 0.0 {
         return Err(axis_error(
             i,
             &a.key,
