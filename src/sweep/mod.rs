@@ -8,7 +8,9 @@
 
 pub mod point;
 pub mod records;
+pub mod shard;
 pub mod spec;
+pub mod study;
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -19,7 +21,9 @@ use rayon::prelude::*;
 
 pub use point::PointRecord;
 pub use records::{read_csv, read_records, sweep_csv, SweepCsv};
-pub use spec::{Axis, Compute, Spacing, SweepSpec, SweepStudy, SWEEP_KEYS};
+pub use shard::Shard;
+pub use spec::{Axis, Compute, Spacing, SweepSpec, SWEEP_KEYS};
+pub use study::{Spares, SweepStudy};
 
 /// Why a sweep could not run (failed points are not errors: they are recorded).
 #[derive(Debug, thiserror::Error)]
@@ -78,85 +82,6 @@ impl SweepError {
     }
 }
 
-/// Which part of the grid a run computes: point ids `index, index + count, …`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Shard {
-    /// first point id, 0 ≤ index < count
-    pub index: usize,
-    /// number of shards
-    pub count: usize,
-}
-
-impl Shard {
-    /// The whole grid.
-    pub const ALL: Shard = Shard { index: 0, count: 1 };
-
-    /// Parses `I/N`.
-    pub fn parse(text: &str) -> Result<Shard, SweepError> {
-        let err = |rule: &str| SweepError::Shard {
-            text: text.to_string(),
-            rule: rule.into(),
-        };
-        let (i, n) = text
-            .split_once('/')
-            .ok_or_else(|| err("write the shard as I/N, e.g. 0/8"))?;
-        let index: usize = i
-            .trim()
-            .parse()
-            .map_err(|_| err("I is not a whole number"))?;
-        let count: usize = n
-            .trim()
-            .parse()
-            .map_err(|_| err("N is not a whole number"))?;
-        if count == 0 || index >= count {
-            return Err(err("needs 0 <= I < N"));
-        }
-        Ok(Shard { index, count })
-    }
-
-    /// From a Slurm job array: I = (SLURM_ARRAY_TASK_ID − MIN)/STEP, N = SLURM_ARRAY_TASK_COUNT
-    /// (MIN = SLURM_ARRAY_TASK_MIN, default 0; STEP = SLURM_ARRAY_TASK_STEP, default 1).
-    pub fn from_env(get: impl Fn(&str) -> Option<String>) -> Result<Shard, SweepError> {
-        let num = |name: &str, default: Option<usize>| -> Result<usize, SweepError> {
-            match get(name) {
-                Some(v) => v.trim().parse().map_err(|_| SweepError::Shard {
-                    text: format!("{name}={v}"),
-                    rule: "is not a whole number".into(),
-                }),
-                None => default.ok_or_else(|| SweepError::Shard {
-                    text: name.into(),
-                    rule: "is not set (run inside a Slurm job array, or use --shard I/N)".into(),
-                }),
-            }
-        };
-        let id = num("SLURM_ARRAY_TASK_ID", None)?;
-        let count = num("SLURM_ARRAY_TASK_COUNT", None)?;
-        let min = num("SLURM_ARRAY_TASK_MIN", Some(0))?;
-        let step = num("SLURM_ARRAY_TASK_STEP", Some(1))?.max(1);
-        if id < min || (id - min) % step != 0 {
-            return Err(SweepError::Shard {
-                text: format!("SLURM_ARRAY_TASK_ID={id}"),
-                rule: format!("is not MIN + k·STEP (MIN = {min}, STEP = {step})"),
-            });
-        }
-        Shard::parse(&format!("{}/{count}", (id - min) / step))
-    }
-
-    /// The point ids of this shard among `total`.
-    pub fn ids(&self, total: usize) -> Vec<usize> {
-        (self.index..total).step_by(self.count.max(1)).collect()
-    }
-
-    /// The records file name of this shard in the study's output folder.
-    pub fn records_file(&self) -> String {
-        if *self == Shard::ALL {
-            "sweep.records.csv".into()
-        } else {
-            format!("sweep.shard-{}-of-{}.records.csv", self.index, self.count)
-        }
-    }
-}
-
 /// How to run a sweep.
 #[derive(Clone, Debug)]
 pub struct SweepOptions {
@@ -195,12 +120,6 @@ pub struct SweepResults {
     /// grid size
     pub total: usize,
 }
-
-type Sink = (
-    Option<std::io::BufWriter<std::fs::File>>,
-    Vec<PointRecord>,
-    Option<std::io::Error>,
-);
 
 /// Opens the records file for appending, returning the points already in it.
 fn open_records(
@@ -257,6 +176,63 @@ pub fn run(
     opts: &SweepOptions,
     progress: Option<&(dyn Fn(&Progress) + Sync)>,
 ) -> Result<SweepResults, SweepError> {
+    let (file, mut have, todo) = resume(study, opts)?;
+    let resumed = have.len();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| SweepError::Threads(e.to_string()))?;
+    let started = Instant::now();
+    let sink = Mutex::new(Sink {
+        file,
+        rows: Vec::with_capacity(todo.len()),
+        failed: 0,
+        err: None,
+    });
+    let spares = Spares::default();
+    pool.install(|| {
+        todo.par_iter().for_each(|&id| {
+            let rec = point::compute(study, id, &spares);
+            let mut g = sink.lock().unwrap_or_else(|e| e.into_inner());
+            g.add(rec);
+            if let Some(p) = progress {
+                p(&Progress {
+                    done: g.rows.len(),
+                    failed: g.failed,
+                    todo: todo.len(),
+                    resumed,
+                    elapsed: started.elapsed(),
+                });
+            }
+        })
+    });
+    let sink = sink.into_inner().unwrap_or_else(|e| e.into_inner());
+    if let (Some(e), Some(p)) = (sink.err, &opts.records) {
+        return Err(SweepError::Io {
+            path: p.display().to_string(),
+            source: e,
+        });
+    }
+    let computed = sink.rows.len();
+    have.extend(sink.rows);
+    have.sort_by_key(|r| r.id);
+    Ok(SweepResults {
+        rows: have,
+        resumed,
+        computed,
+        total: study.spec.len(),
+    })
+}
+
+/// The records file opened for appending, the shard's finished points (sorted by id) and
+/// the ids still to compute.
+type Resume = (
+    Option<std::io::BufWriter<std::fs::File>>,
+    Vec<PointRecord>,
+    Vec<usize>,
+);
+
+fn resume(study: &SweepStudy, opts: &SweepOptions) -> Result<Resume, SweepError> {
     let total = study.spec.len();
     let (file, mut have) = match &opts.records {
         Some(p) => {
@@ -265,66 +241,39 @@ pub fn run(
         }
         None => (None, Vec::new()),
     };
-    let shard_ids = opts.shard.ids(total);
     have.retain(|r| r.id < total && r.id % opts.shard.count == opts.shard.index);
     have.sort_by_key(|r| r.id);
     have.dedup_by_key(|r| r.id);
     let done: std::collections::HashSet<usize> = have.iter().map(|r| r.id).collect();
-    let todo: Vec<usize> = shard_ids
+    let todo = opts
+        .shard
+        .ids(total)
         .into_iter()
         .filter(|i| !done.contains(i))
         .collect();
-    let resumed = have.len();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(opts.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| SweepError::Threads(e.to_string()))?;
-    let started = Instant::now();
-    let sink: Mutex<Sink> = Mutex::new((file, Vec::with_capacity(todo.len()), None));
-    let failed = std::sync::atomic::AtomicUsize::new(0);
-    let spares = spec::Spares::default();
-    pool.install(|| {
-        todo.par_iter().for_each(|&id| {
-            let rec = point::compute(study, id, &spares);
-            let mut g = sink.lock().unwrap_or_else(|e| e.into_inner());
-            let (file, rows, err) = &mut *g;
-            if let (Some(f), None) = (file.as_mut(), err.as_ref()) {
-                let line = records::row(&rec) + "\n";
-                if let Err(e) = f.write_all(line.as_bytes()).and_then(|_| f.flush()) {
-                    *err = Some(e);
-                }
+    Ok((file, have, todo))
+}
+
+/// Where finished points go: appended to the records file (flushed) and kept.
+struct Sink {
+    file: Option<std::io::BufWriter<std::fs::File>>,
+    rows: Vec<PointRecord>,
+    failed: usize,
+    /// the first write error; later points are no longer written
+    err: Option<std::io::Error>,
+}
+
+impl Sink {
+    fn add(&mut self, rec: PointRecord) {
+        if let (Some(f), None) = (self.file.as_mut(), self.err.as_ref()) {
+            let line = records::row(&rec) + "\n";
+            if let Err(e) = f.write_all(line.as_bytes()).and_then(|_| f.flush()) {
+                self.err = Some(e);
             }
-            if !rec.ok() {
-                failed.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            }
-            rows.push(rec);
-            if let Some(p) = progress {
-                p(&Progress {
-                    done: rows.len(),
-                    failed: failed.load(std::sync::atomic::Ordering::Relaxed),
-                    todo: todo.len(),
-                    resumed,
-                    elapsed: started.elapsed(),
-                });
-            }
-        })
-    });
-    let (_, new, err) = sink.into_inner().unwrap_or_else(|e| e.into_inner());
-    if let (Some(e), Some(p)) = (err, &opts.records) {
-        return Err(SweepError::Io {
-            path: p.display().to_string(),
-            source: e,
-        });
+        }
+        self.failed += usize::from(!rec.ok());
+        self.rows.push(rec);
     }
-    let computed = new.len();
-    have.extend(new);
-    have.sort_by_key(|r| r.id);
-    Ok(SweepResults {
-        rows: have,
-        resumed,
-        computed,
-        total,
-    })
 }
 
 /// The result of merging records files.
@@ -367,55 +316,4 @@ pub fn merge(study: &SweepStudy, files: &[PathBuf]) -> Result<Merged, SweepError
     let missing = (0..total).filter(|&i| by_id[i].is_none()).collect();
     let rows = by_id.into_iter().flatten().map(|(r, _)| r).collect();
     Ok(Merged { rows, missing })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn shards_partition_the_grid() {
-        let mut all: Vec<usize> = (0..3)
-            .flat_map(|i| Shard { index: i, count: 3 }.ids(10))
-            .collect();
-        all.sort_unstable();
-        assert_eq!(all, (0..10).collect::<Vec<_>>());
-        assert_eq!(Shard::parse("1/3").expect("ok").ids(10), vec![1, 4, 7]);
-        assert!(Shard::parse("3/3").is_err());
-        assert!(Shard::parse("1-3").is_err());
-    }
-
-    #[test]
-    fn slurm_ids_map_to_shards() {
-        let env = |vars: &'static [(&'static str, &'static str)]| {
-            move |k: &str| {
-                vars.iter()
-                    .find(|(n, _)| *n == k)
-                    .map(|(_, v)| v.to_string())
-            }
-        };
-        // --array=0-7
-        let s = Shard::from_env(env(&[
-            ("SLURM_ARRAY_TASK_ID", "5"),
-            ("SLURM_ARRAY_TASK_COUNT", "8"),
-        ]));
-        assert_eq!(s.expect("ok"), Shard { index: 5, count: 8 });
-        // --array=1-8
-        let s = Shard::from_env(env(&[
-            ("SLURM_ARRAY_TASK_ID", "8"),
-            ("SLURM_ARRAY_TASK_MIN", "1"),
-            ("SLURM_ARRAY_TASK_MAX", "8"),
-            ("SLURM_ARRAY_TASK_COUNT", "8"),
-        ]));
-        assert_eq!(s.expect("ok"), Shard { index: 7, count: 8 });
-        // --array=10-16:2 (10, 12, 14, 16)
-        let s = Shard::from_env(env(&[
-            ("SLURM_ARRAY_TASK_ID", "14"),
-            ("SLURM_ARRAY_TASK_MIN", "10"),
-            ("SLURM_ARRAY_TASK_STEP", "2"),
-            ("SLURM_ARRAY_TASK_COUNT", "4"),
-        ]));
-        assert_eq!(s.expect("ok"), Shard { index: 2, count: 4 });
-        assert!(Shard::from_env(env(&[("SLURM_ARRAY_TASK_ID", "1")])).is_err());
-    }
 }

@@ -5,7 +5,7 @@ use crate::contact::creep::CreepLaw;
 use crate::model::Wheelset;
 use crate::stability::{critical_speeds, LinearOptions, LinearSystem};
 
-use super::spec::{Spares, SweepStudy};
+use super::study::{Spares, SweepStudy};
 
 /// The result of one grid point.
 #[derive(Clone, Debug, PartialEq)]
