@@ -94,6 +94,14 @@ pub fn run(args: &SweepArgs, root: &Path) -> Result<(), Failure> {
     let mine = shard.ids(total).len();
     if records.exists() {
         let r = sweep::read_records(&records).map_err(failure)?;
+        if r.fingerprint != study.fingerprint {
+            return Err(failure(SweepError::Fingerprint {
+                path: records.display().to_string(),
+                found: r.fingerprint,
+                expected: study.fingerprint.clone(),
+                points: r.points,
+            }));
+        }
         eprintln!(
             "resuming: {} of {mine} points already in {}",
             r.rows.len(),
