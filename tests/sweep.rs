@@ -293,3 +293,21 @@ fn higher_conicity_lowers_the_critical_speed() {
         assert!(v.windows(2).all(|w| w[1] < w[0]), "{v:?}");
     }
 }
+
+#[test]
+fn studies_with_sweep_and_trade_sections_load_everywhere() {
+    let text =
+        with_sweep("both", GRID) + "\n[trade]\nanything = \"is parsed by critspeed trade\"\n";
+    let plan = study::parse(&text, "both").expect("a study with [sweep] and [trade] loads");
+    assert_eq!(plan.name, "both");
+    let s = SweepStudy::parse(&text, "both").expect("sweep study");
+    // [trade] does not change the fingerprint
+    assert_eq!(
+        s.fingerprint,
+        SweepStudy::parse(&with_sweep("both", GRID), "b")
+            .expect("s")
+            .fingerprint
+    );
+    let err = SweepStudy::parse(&base_text(), "plain").expect_err("no [sweep]");
+    assert!(err.to_string().contains("no [sweep] section"), "{err}");
+}
