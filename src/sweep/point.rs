@@ -130,7 +130,12 @@ fn fill(study: &SweepStudy, rec: &mut PointRecord, spares: &Spares) {
         }
     }
     if c.nonlinear {
-        match bifurcation::analyse(&plan.name, &model, &plan.bifurcation_options()) {
+        // the points are the parallel work; each continuation runs serially (same results)
+        let opts = bifurcation::BifurcationOptions {
+            parallel: false,
+            ..plan.bifurcation_options()
+        };
+        match bifurcation::analyse(&plan.name, &model, &opts) {
             Ok(r) => match r.nonlinear_critical_speed {
                 Some((v, located)) => {
                     (rec.nonlinear_m_s, rec.nonlinear_located) = (Some(v), Some(located))
