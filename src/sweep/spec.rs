@@ -283,6 +283,13 @@ pub fn resolve(s: &SweepSection) -> Result<SweepSpec, SweepError> {
         .enumerate()
         .map(|(i, a)| resolve_axis(i, a))
         .collect::<Result<Vec<_>, _>>()?;
+    let points: usize = axes.iter().map(|a| a.values.len()).product();
+    if points > 10_000_000 {
+        return Err(SweepError::Axis {
+            axis: "sweep.axes".into(),
+            rule: format!("{points} grid points; at most 10000000"),
+        });
+    }
     if axes.len() == 2 && axes[0].key == axes[1].key {
         return Err(axis_error(
             1,
