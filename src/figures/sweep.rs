@@ -127,23 +127,109 @@ pub fn sweep(
         }
         return Ok(vec![("sweep.svg".into(), render_svg(&f, 900, 600)?)]);
     }
-    let (ax, ay) = (&spec.axes[0], &spec.axes[1]);
     picks(spec)
         .into_iter()
         .map(|(file, name, get)| {
-            let h = HeatMap {
-                title: format!("{study}: {name}"),
-                x_label: ax.label(),
-                y_label: ay.label(),
-                x: ax.values.clone(),
-                y: ay.values.clone(),
-                x_log: ax.spacing == crate::sweep::Spacing::Log,
-                y_log: ay.spacing == crate::sweep::Spacing::Log,
-                z: by_id.iter().map(|r| r.and_then(get)).collect(),
-                z_label: format!("{name} (m/s)"),
-                threshold: threshold.clone(),
-            };
+            let h = heat_map(study, spec, &by_id, name, get, threshold.clone());
             Ok((format!("sweep_map_{file}.svg"), sweep_map(&h)?))
         })
         .collect()
+}
+
+/// The map of one result over two axes: each cell is its point's value, `None` where the
+/// point failed or is absent (never interpolated).
+fn heat_map(
+    study: &str,
+    spec: &SweepSpec,
+    by_id: &[Option<&PointRecord>],
+    name: &str,
+    get: fn(&PointRecord) -> Option<f64>,
+    threshold: Option<(f64, String)>,
+) -> HeatMap {
+    let (ax, ay) = (&spec.axes[0], &spec.axes[1]);
+    HeatMap {
+        title: format!("{study}: {name}"),
+        x_label: ax.label(),
+        y_label: ay.label(),
+        x: ax.values.clone(),
+        y: ay.values.clone(),
+        x_log: ax.spacing == crate::sweep::Spacing::Log,
+        y_log: ay.spacing == crate::sweep::Spacing::Log,
+        z: by_id.iter().map(|r| r.and_then(get)).collect(),
+        z_label: format!("{name} (m/s)"),
+        threshold,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::units::Dimension;
+    use crate::sweep::{Axis, Compute, Spacing};
+
+    fn spec(axes: usize) -> SweepSpec {
+        let axis = |key: &str| Axis {
+            key: key.into(),
+            dim: Dimension::Stiffness,
+            spacing: Spacing::Linear,
+            values: vec![1e5, 2e5, 3e5],
+        };
+        SweepSpec {
+            axes: (0..axes).map(|k| axis(["a", "b"][k])).collect(),
+            compute: Compute {
+                kalker: true,
+                hopf: false,
+                nonlinear: false,
+            },
+            operating_speed: Some(50.0),
+        }
+    }
+
+    fn row(id: usize, v: Option<f64>) -> PointRecord {
+        PointRecord {
+            id,
+            values: vec![],
+            kalker_m_s: v,
+            hopf_m_s: None,
+            nonlinear_m_s: None,
+            failures: if v.is_some() {
+                vec![]
+            } else {
+                vec!["kalker: none".into()]
+            },
+            kalker_frequency_hz: None,
+            hopf_frequency_hz: None,
+            nonlinear_located: None,
+        }
+    }
+
+    #[test]
+    fn failed_cells_stay_empty_in_the_map() {
+        let s = spec(2);
+        // point 4 (the centre) failed, point 8 was never computed
+        let rows: Vec<PointRecord> = (0..8)
+            .map(|i| row(i, (i != 4).then_some(10.0 * i as f64)))
+            .collect();
+        let mut by_id: Vec<Option<&PointRecord>> = vec![None; 9];
+        for r in &rows {
+            by_id[r.id] = Some(r);
+        }
+        let h = heat_map("t", &s, &by_id, "V_L", |r| r.kalker_m_s, None);
+        assert_eq!(h.z[4], None);
+        assert_eq!(h.z[8], None);
+        assert_eq!(h.z[5], Some(50.0));
+        assert!(sweep("t", &s, &rows).is_ok());
+    }
+
+    #[test]
+    fn failed_points_are_marked_on_the_line_plot() {
+        let s = spec(1);
+        let rows = vec![row(0, Some(40.0)), row(1, None), row(2, Some(60.0))];
+        let figs = sweep("t", &s, &rows).expect("svg");
+        assert_eq!(figs[0].0, "sweep.svg");
+        assert!(figs[0].1.contains("failed point"));
+        // a result found nowhere gives no line, and no error
+        let none = vec![row(0, None), row(1, None)];
+        assert!(sweep("t", &s, &none).is_ok());
+    }
 }
