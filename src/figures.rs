@@ -1,5 +1,9 @@
 //! Results to [`crate::plot::Figure`]s: what each SVG shows. Sees results, never the model.
 
+mod sweep;
+
+pub use sweep::{sweep, sweep_map, HeatMap};
+
 use crate::analysis::{GeometryReport, LinearReport};
 use crate::plot::{render_grid, render_svg, Figure, Marker, PlotError, Series, Style};
 use crate::stability::{CriticalSpeeds, Spectrum};

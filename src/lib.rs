@@ -19,6 +19,8 @@
 //!    equations, event location at the flange); [`simulate`] runs time histories and the
 //!    ramp method.
 //! 6. [`output`], [`figures`] and [`plot`]: results as JSON/CSV and SVG under `out/<study>/`.
+//! 7. [`sweep`]: the critical speeds over a grid of one or two study keys (`[sweep]`), in
+//!    parallel, resumable and sharded.
 //!
 //! [`reference`](mod@reference) holds problems with known answers (closed-form critical speed, the Hopf
 //! normal form) that the tests and benches share.
@@ -50,6 +52,7 @@ pub mod reference;
 pub mod simulate;
 pub mod stability;
 pub mod study;
+pub mod sweep;
 pub mod system;
 #[cfg(test)]
 mod testutil;

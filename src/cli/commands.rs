@@ -82,6 +82,8 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
         }
         Command::Ramp(args) => super::ramp::run(args, &cli.out),
         Command::Conicity(args) => super::conicity::run(args, &cli.out),
+        Command::Sweep(args) => super::sweep::run(args, &cli.out),
+        Command::Merge(args) => super::sweep::merge(args, &cli.out),
         Command::Geometry { study } => {
             let plan = load(study)?;
             let model = build(&plan)?;

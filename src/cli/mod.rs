@@ -5,6 +5,7 @@
 mod commands;
 mod conicity;
 mod ramp;
+mod sweep;
 mod table;
 
 use std::path::PathBuf;
@@ -78,6 +79,11 @@ pub enum Command {
         /// Study file (TOML).
         study: PathBuf,
     },
+    /// Parameter sweep: the critical speeds over the study's `[sweep]` grid, in parallel,
+    /// resumable, optionally one shard: out/<name>/sweep.csv and plots.
+    Sweep(sweep::SweepArgs),
+    /// Join the records files of a sharded sweep into sweep.csv (refuses other studies' files).
+    Merge(sweep::MergeArgs),
     /// Validate a study and print the resolved plan in SI units.
     Check {
         /// Study file (TOML).

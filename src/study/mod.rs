@@ -126,7 +126,7 @@ pub fn parse_in(text: &str, origin: &str, folder: Option<&Path>) -> Result<Plan,
     plan(file, folder)
 }
 
-fn quantity(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
+pub(crate) fn quantity(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
     let v = match q {
         Quantity::Number(v) => Ok(*v),
         Quantity::Text(t) => parse_quantity(t, dim),
@@ -178,7 +178,7 @@ fn non_negative(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyErr
 }
 
 /// The cone slope: a number, or a ratio string such as "1:20" or "1/40".
-fn conicity(q: &Quantity) -> Result<f64, StudyError> {
+pub(crate) fn conicity(q: &Quantity) -> Result<f64, StudyError> {
     const KEY: &str = "contact.conicity";
     let v = match q {
         Quantity::Text(t) if t.contains([':', '/']) => {
@@ -209,7 +209,7 @@ fn conicity(q: &Quantity) -> Result<f64, StudyError> {
     }
 }
 
-fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyError> {
+pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyError> {
     if f.name.is_empty()
         || !f
             .name

@@ -33,6 +33,12 @@ pub struct StudyFile {
     pub linear: Option<LinearSection>,
     #[serde(default)]
     pub bifurcation: Option<BifurcationSection>,
+    /// parameter sweep (`critspeed sweep`)
+    #[serde(default)]
+    pub sweep: Option<SweepSection>,
+    /// trade study (`critspeed trade`), kept raw here and parsed by that command
+    #[serde(default)]
+    pub trade: Option<toml::Table>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -133,4 +139,35 @@ pub struct BifurcationSection {
     pub ds_max: Option<f64>,
     #[serde(default)]
     pub max_points: Option<usize>,
+}
+
+/// `[sweep]`: a grid over one or two numeric study keys.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepSection {
+    /// one or two axes
+    pub axes: Vec<SweepAxisSection>,
+    /// results per point: any of "kalker", "hopf", "nonlinear" (default: kalker, hopf)
+    #[serde(default)]
+    pub compute: Option<Vec<String>>,
+    /// speed the vehicle runs at, drawn as the stable/unstable boundary on the plots
+    #[serde(default)]
+    pub operating_speed: Option<Quantity>,
+}
+
+/// One axis of a sweep.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepAxisSection {
+    /// dotted study key, e.g. "suspension.lateral_stiffness"
+    pub key: String,
+    /// first value (any accepted unit of the key)
+    pub from: Quantity,
+    /// last value
+    pub to: Quantity,
+    /// number of values (at least 1)
+    pub count: usize,
+    /// "linear" (default) or "log"
+    #[serde(default)]
+    pub spacing: Option<String>,
 }

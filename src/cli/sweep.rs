@@ -1,0 +1,261 @@
+//! `critspeed sweep` and `critspeed merge`: parameter grids, resumable, sharded.
+
+use std::io::IsTerminal as _;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use anyhow::anyhow;
+
+use super::commands::{compute, user, write};
+use super::Failure;
+use crate::figures;
+use crate::output;
+use crate::sweep::{self, PointRecord, Progress, Shard, SweepError, SweepOptions, SweepStudy};
+
+/// `critspeed sweep` arguments.
+#[derive(Debug, clap::Args)]
+pub struct SweepArgs {
+    /// Study file (TOML) with a `[sweep]` section.
+    pub study: PathBuf,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Compute only every N-th point from I (0 <= I < N), into its own records file.
+    #[arg(long, conflicts_with = "shard_from_env")]
+    pub shard: Option<String>,
+    /// Take the shard from a Slurm job array: I = (SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN)
+    /// / SLURM_ARRAY_TASK_STEP, N = SLURM_ARRAY_TASK_COUNT.
+    #[arg(long)]
+    pub shard_from_env: bool,
+}
+
+/// `critspeed merge` arguments.
+#[derive(Debug, clap::Args)]
+pub struct MergeArgs {
+    /// Study file (TOML) the shards were computed from.
+    pub study: PathBuf,
+    /// Records files to join (default: every `sweep*.records.csv` in OUT/<study name>/).
+    #[arg(long, num_args = 1..)]
+    pub records: Vec<PathBuf>,
+    /// Write sweep.csv even when points are missing (they are listed on stderr).
+    #[arg(long)]
+    pub partial: bool,
+}
+
+fn failure(e: SweepError) -> Failure {
+    if e.is_user_error() {
+        user(e)
+    } else {
+        compute(e)
+    }
+}
+
+fn clock(d: f64) -> String {
+    let s = d.max(0.0).round() as u64;
+    format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+}
+
+/// One progress line: points done, failures, elapsed, estimated remaining.
+fn progress_line(p: &Progress) -> String {
+    let el = p.elapsed.as_secs_f64();
+    let left = if p.done > 0 {
+        el / p.done as f64 * (p.todo - p.done) as f64
+    } else {
+        f64::NAN
+    };
+    format!(
+        "  {}/{} points ({} failed), elapsed {}, remaining {}",
+        p.done,
+        p.todo,
+        p.failed,
+        clock(el),
+        if left.is_finite() {
+            clock(left)
+        } else {
+            "?".into()
+        }
+    )
+}
+
+/// Runs `critspeed sweep`.
+pub fn run(args: &SweepArgs, root: &Path) -> Result<(), Failure> {
+    let study = SweepStudy::load(&args.study).map_err(failure)?;
+    let shard = match (&args.shard, args.shard_from_env) {
+        (Some(s), _) => Shard::parse(s).map_err(failure)?,
+        (None, true) => Shard::from_env(|k| std::env::var(k).ok()).map_err(failure)?,
+        (None, false) => Shard::ALL,
+    };
+    if args.threads == Some(0) {
+        return Err(user(anyhow!("--threads 0: must be at least 1")));
+    }
+    let dir = super::commands::out_dir(root, &study.base)?;
+    let records = dir.join(shard.records_file());
+    let total = study.spec.len();
+    let mine = shard.ids(total).len();
+    if records.exists() {
+        let r = sweep::read_records(&records).map_err(failure)?;
+        if r.fingerprint != study.fingerprint {
+            return Err(failure(SweepError::Fingerprint {
+                path: records.display().to_string(),
+                found: r.fingerprint,
+                expected: study.fingerprint.clone(),
+                points: r.points,
+            }));
+        }
+        eprintln!(
+            "resuming: {} of {mine} points already in {}",
+            r.rows.len(),
+            records.display()
+        );
+    }
+    eprintln!(
+        "sweep of '{}': {total} points, shard {}/{} computes {mine}, fingerprint {}",
+        study.base.name, shard.index, shard.count, study.fingerprint
+    );
+    let tty = std::io::stderr().is_terminal();
+    let last = AtomicU64::new(0);
+    let report = |p: &Progress| {
+        let ms = p.elapsed.as_millis() as u64;
+        let period = if tty { 200 } else { 10_000 };
+        let prev = last.load(Ordering::Relaxed);
+        if p.done == p.todo || ms >= prev + period {
+            last.store(ms, Ordering::Relaxed);
+            if tty {
+                eprint!("\r{}   ", progress_line(p));
+            } else {
+                eprintln!("{}", progress_line(p));
+            }
+        }
+    };
+    let opts = SweepOptions {
+        threads: args.threads,
+        shard,
+        records: Some(records.clone()),
+    };
+    let res = sweep::run(&study, &opts, Some(&report)).map_err(failure)?;
+    if tty && res.computed > 0 {
+        eprintln!();
+    }
+    let failed = res.rows.iter().filter(|r| !r.ok()).count();
+    eprintln!(
+        "{} points finished ({} this run, {} resumed), {failed} failed; records in {}",
+        res.rows.len(),
+        res.computed,
+        res.resumed,
+        records.display()
+    );
+    if shard != Shard::ALL {
+        eprintln!(
+            "shard {}/{} done; join the shards with `critspeed merge {}`",
+            shard.index,
+            shard.count,
+            args.study.display()
+        );
+        return Ok(());
+    }
+    finish(&study, &dir, &res.rows)?;
+    print!("{}", summary(&study, &res.rows));
+    Ok(())
+}
+
+/// Writes sweep.csv and the figures.
+fn finish(study: &SweepStudy, dir: &Path, rows: &[PointRecord]) -> Result<(), Failure> {
+    write(
+        dir,
+        "sweep.csv",
+        sweep::sweep_csv(&study.spec.axes, rows).as_bytes(),
+    )?;
+    let figs =
+        figures::sweep(&study.base.name, &study.spec, rows).map_err(|e| compute(anyhow!(e)))?;
+    for (file, svg) in figs {
+        write(dir, &file, svg.as_bytes())?;
+    }
+    Ok(())
+}
+
+/// Ranges of the results, with units.
+fn summary(study: &SweepStudy, rows: &[PointRecord]) -> String {
+    let range = |get: fn(&PointRecord) -> Option<f64>| {
+        let v: Vec<f64> = rows.iter().filter_map(get).collect();
+        let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if v.is_empty() {
+            "not found at any point".to_string()
+        } else {
+            format!("{lo:.3} .. {hi:.3} m/s at {} points", v.len())
+        }
+    };
+    let c = study.spec.compute;
+    let mut s = format!("sweep '{}': {} points\n", study.base.name, rows.len());
+    if c.kalker {
+        s += &format!(
+            "  Kalker critical speed V_L:        {}\n",
+            range(|r| r.kalker_m_s)
+        );
+    }
+    if c.hopf {
+        s += &format!(
+            "  creep-law Hopf speed V_H:         {}\n",
+            range(|r| r.hopf_m_s)
+        );
+    }
+    if c.nonlinear {
+        s += &format!(
+            "  nonlinear critical speed V_NL:    {}\n",
+            range(|r| r.nonlinear_m_s)
+        );
+    }
+    s
+}
+
+/// Runs `critspeed merge`.
+pub fn merge(args: &MergeArgs, root: &Path) -> Result<(), Failure> {
+    let study = SweepStudy::load(&args.study).map_err(failure)?;
+    let dir = output::study_dir(root, &study.base.name).map_err(compute)?;
+    let files = if args.records.is_empty() {
+        let mut f: Vec<PathBuf> = std::fs::read_dir(&dir)
+            .map_err(compute)?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| {
+                p.file_name()
+                    .and_then(|n| n.to_str())
+                    .is_some_and(|n| n.starts_with("sweep") && n.ends_with(".records.csv"))
+            })
+            .collect();
+        f.sort();
+        f
+    } else {
+        args.records.clone()
+    };
+    if files.is_empty() {
+        return Err(user(anyhow!(
+            "no records files (sweep*.records.csv) in {}",
+            dir.display()
+        )));
+    }
+    for f in &files {
+        eprintln!("reading {}", f.display());
+    }
+    let m = sweep::merge(&study, &files).map_err(failure)?;
+    let total = study.spec.len();
+    if !m.missing.is_empty() {
+        let list: Vec<String> = m.missing.iter().take(20).map(usize::to_string).collect();
+        eprintln!(
+            "{} of {total} points missing: {}{}",
+            m.missing.len(),
+            list.join(", "),
+            if m.missing.len() > 20 { ", ..." } else { "" }
+        );
+        if !args.partial {
+            return Err(compute(anyhow!(
+                "{} points missing; run the missing shards (or pass --partial)",
+                m.missing.len()
+            )));
+        }
+    } else {
+        eprintln!("all {total} points present in {} files", files.len());
+    }
+    finish(&study, &dir, &m.rows)?;
+    print!("{}", summary(&study, &m.rows));
+    Ok(())
+}

@@ -1,0 +1,235 @@
+//! Sweep figures: critical speeds against one axis (`sweep.svg`), or a map over two axes
+//! (`sweep_map_<result>.svg`). Failed points are drawn as failed, never interpolated over.
+
+use super::{figure, line};
+use crate::plot::{render_svg, Marker, PlotError, Series, Style};
+use crate::sweep::{PointRecord, SweepSpec};
+
+/// The data of a heat map over two axes (the same fields as the heat-map plot's input).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeatMap {
+    /// title
+    pub title: String,
+    /// x-axis title with unit
+    pub x_label: String,
+    /// y-axis title with unit
+    pub y_label: String,
+    /// x grid values
+    pub x: Vec<f64>,
+    /// y grid values
+    pub y: Vec<f64>,
+    /// x values log-spaced
+    pub x_log: bool,
+    /// y values log-spaced
+    pub y_log: bool,
+    /// `z[j*nx+i]` at `(x[i], y[j])`; `None` = failed or not computed
+    pub z: Vec<Option<f64>>,
+    /// colour-bar title with unit
+    pub z_label: String,
+    /// contour level drawn as a boundary, with its label (e.g. the operating speed)
+    pub threshold: Option<(f64, String)>,
+}
+
+/// Placeholder map: the grid points coloured by value, failed points grey.
+pub fn sweep_map(h: &HeatMap) -> Result<String, PlotError> {
+    let nx = h.x.len();
+    let mut f = figure(&h.title, &h.x_label, &h.y_label);
+    let points = (0..h.z.len()).map(|k| (h.x[k % nx], h.y[k / nx])).collect();
+    let values = h.z.iter().map(|z| z.unwrap_or(f64::NAN)).collect();
+    f.series.push(Series {
+        name: "grid point (grey: failed)".into(),
+        points,
+        style: Style::PointsColoured {
+            values,
+            label: h.z_label.clone(),
+        },
+    });
+    render_svg(&f, 900, 700)
+}
+
+/// The results a sweep can compute: (name in file names, legend, value of a point).
+type Pick = (&'static str, &'static str, fn(&PointRecord) -> Option<f64>);
+
+fn picks(spec: &SweepSpec) -> Vec<Pick> {
+    let c = spec.compute;
+    let all: [(bool, Pick); 3] = [
+        (
+            c.kalker,
+            ("kalker", "Kalker critical speed V_L", |r| r.kalker_m_s),
+        ),
+        (
+            c.hopf,
+            ("hopf", "Hopf speed of the creep law V_H", |r| r.hopf_m_s),
+        ),
+        (
+            c.nonlinear,
+            ("nonlinear", "nonlinear critical speed V_NL", |r| {
+                r.nonlinear_m_s
+            }),
+        ),
+    ];
+    all.into_iter()
+        .filter(|(on, _)| *on)
+        .map(|(_, p)| p)
+        .collect()
+}
+
+/// `sweep.svg` for one axis; one `sweep_map_<result>.svg` per result for two axes. `rows`
+/// need not be complete: absent points are drawn as failed.
+pub fn sweep(
+    study: &str,
+    spec: &SweepSpec,
+    rows: &[PointRecord],
+) -> Result<Vec<(String, String)>, PlotError> {
+    let mut by_id: Vec<Option<&PointRecord>> = vec![None; spec.len()];
+    for r in rows {
+        if let Some(slot) = by_id.get_mut(r.id) {
+            *slot = Some(r);
+        }
+    }
+    let threshold = spec
+        .operating_speed
+        .map(|v| (v, format!("operating speed {v:.2} m/s")));
+    if let [a] = spec.axes.as_slice() {
+        let mut f = figure(
+            &format!("{study}: critical speeds against {}", a.key),
+            &a.label(),
+            "speed (m/s)",
+        );
+        for (_, name, get) in picks(spec) {
+            let pts: Vec<(f64, f64)> = a
+                .values
+                .iter()
+                .zip(&by_id)
+                .map(|(x, r)| (*x, r.and_then(get).unwrap_or(f64::NAN)))
+                .collect();
+            // a result found nowhere has no line (its failures are marked below)
+            if pts.iter().any(|p| p.1.is_finite()) {
+                f.series.push(line(name, pts, false));
+            }
+        }
+        let failed: Vec<(f64, f64)> = a
+            .values
+            .iter()
+            .zip(&by_id)
+            .filter(|(_, r)| !r.is_some_and(PointRecord::ok))
+            .map(|(x, _)| (*x, 0.0))
+            .collect();
+        if !failed.is_empty() {
+            f.series.push(Series {
+                name: "failed point (reason in sweep.csv)".into(),
+                points: failed,
+                style: Style::Points,
+            });
+        }
+        if let Some((v, label)) = threshold {
+            f.hlines.push(Marker { at: v, label });
+        }
+        return Ok(vec![("sweep.svg".into(), render_svg(&f, 900, 600)?)]);
+    }
+    picks(spec)
+        .into_iter()
+        .map(|(file, name, get)| {
+            let h = heat_map(study, spec, &by_id, name, get, threshold.clone());
+            Ok((format!("sweep_map_{file}.svg"), sweep_map(&h)?))
+        })
+        .collect()
+}
+
+/// The map of one result over two axes: each cell is its point's value, `None` where the
+/// point failed or is absent (never interpolated).
+fn heat_map(
+    study: &str,
+    spec: &SweepSpec,
+    by_id: &[Option<&PointRecord>],
+    name: &str,
+    get: fn(&PointRecord) -> Option<f64>,
+    threshold: Option<(f64, String)>,
+) -> HeatMap {
+    let (ax, ay) = (&spec.axes[0], &spec.axes[1]);
+    HeatMap {
+        title: format!("{study}: {name}"),
+        x_label: ax.label(),
+        y_label: ay.label(),
+        x: ax.values.clone(),
+        y: ay.values.clone(),
+        x_log: ax.spacing == crate::sweep::Spacing::Log,
+        y_log: ay.spacing == crate::sweep::Spacing::Log,
+        z: by_id.iter().map(|r| r.and_then(get)).collect(),
+        z_label: format!("{name} (m/s)"),
+        threshold,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::units::Dimension;
+    use crate::sweep::{Axis, Compute, Spacing};
+
+    fn spec(axes: usize) -> SweepSpec {
+        let axis = |key: &str| Axis {
+            key: key.into(),
+            dim: Dimension::Stiffness,
+            spacing: Spacing::Linear,
+            values: vec![1e5, 2e5, 3e5],
+        };
+        SweepSpec {
+            axes: (0..axes).map(|k| axis(["a", "b"][k])).collect(),
+            compute: Compute {
+                kalker: true,
+                hopf: false,
+                nonlinear: false,
+            },
+            operating_speed: Some(50.0),
+        }
+    }
+
+    fn row(id: usize, v: Option<f64>) -> PointRecord {
+        PointRecord {
+            id,
+            values: vec![],
+            kalker_m_s: v,
+            hopf_m_s: None,
+            nonlinear_m_s: None,
+            failures: if v.is_some() {
+                vec![]
+            } else {
+                vec!["kalker: none".into()]
+            },
+            kalker_frequency_hz: None,
+            hopf_frequency_hz: None,
+            nonlinear_located: None,
+        }
+    }
+
+    #[test]
+    fn failed_cells_stay_empty_in_the_map() {
+        let s = spec(2);
+        // point 4 (the centre) failed, point 8 was never computed
+        let rows: Vec<PointRecord> = (0..8)
+            .map(|i| row(i, (i != 4).then_some(10.0 * i as f64)))
+            .collect();
+        let mut by_id: Vec<Option<&PointRecord>> = vec![None; 9];
+        for r in &rows {
+            by_id[r.id] = Some(r);
+        }
+        let h = heat_map("t", &s, &by_id, "V_L", |r| r.kalker_m_s, None);
+        assert_eq!(h.z[4], None);
+        assert_eq!(h.z[8], None);
+        assert_eq!(h.z[5], Some(50.0));
+        assert!(sweep("t", &s, &rows).is_ok());
+    }
+
+    #[test]
+    fn failed_points_are_marked_on_the_line_plot() {
+        let s = spec(1);
+        let rows = vec![row(0, Some(40.0)), row(1, None), row(2, Some(60.0))];
+        let figs = sweep("t", &s, &rows).expect("svg");
+        assert_eq!(figs[0].0, "sweep.svg");
+        assert!(figs[0].1.contains("failed point"));
+        // a result found nowhere gives no line, and no error
+        let none = vec![row(0, None), row(1, None)];
+        assert!(sweep("t", &s, &none).is_ok());
+    }
+}

@@ -1,0 +1,313 @@
+//! Parameter sweeps: each point equals a single-point run of the same parameters; the CSV is
+//! byte-identical whatever the thread count, after an interruption and resume, and when
+//! joined from shards; bad axes are user errors that name the key.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use critspeed::contact::creep::CreepLaw;
+use critspeed::sweep::{self, Shard, SweepOptions, SweepStudy};
+use critspeed::{analysis, bifurcation, study};
+
+fn base_text() -> String {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/seed-hunting.toml");
+    std::fs::read_to_string(path).expect("studies/seed-hunting.toml")
+}
+
+/// The seed-hunting study with `[bifurcation]` (cheap: cycles up to 1 mm) and `sweep`.
+fn with_sweep(name: &str, sweep: &str) -> String {
+    base_text().replace("name = \"seed-hunting\"", &format!("name = \"{name}\""))
+        + "\n[bifurcation]\nmax_amplitude = \"1 mm\"\n\n[sweep]\n"
+        + sweep
+}
+
+/// 2 axes, 3 × 3 points; conicity 0.03 has no Hopf point below 150 m/s (a failed row).
+const GRID: &str = r#"axes = [ { key = "contact.conicity", from = 0.03, to = 0.2, count = 3 },
+         { key = "suspension.lateral_stiffness", from = "200 N/mm", to = "800 N/mm", count = 3, spacing = "log" } ]
+compute = ["kalker", "hopf", "nonlinear"]
+operating_speed = "200 km/h"
+"#;
+
+/// The study text with a key's line replaced by `key = value` (SI), as a user would edit it.
+fn set_by_hand(text: &str, line_start: &str, value: f64) -> String {
+    text.lines()
+        .map(|l| {
+            if l.trim_start().starts_with(line_start) {
+                format!("{line_start} = {value:e}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn sweep_points_equal_single_point_runs() {
+    let text = with_sweep("sweep-points", GRID);
+    let s = SweepStudy::parse(&text, "test").expect("study");
+    let opts = SweepOptions {
+        threads: Some(1),
+        shard: Shard::ALL,
+        records: None,
+    };
+    let res = sweep::run(&s, &opts, None).expect("sweep");
+    assert_eq!(res.rows.len(), 9);
+    let mut found = 0;
+    for r in &res.rows {
+        let (lam, k) = (r.values[0], r.values[1]);
+        let one = set_by_hand(&set_by_hand(&text, "conicity", lam), "lateral_stiffness", k);
+        let one = one.split("[sweep]").next().expect("text before [sweep]");
+        let plan = study::parse(one, "one point").expect("plan");
+        assert_eq!(plan.contact.geometry.conicity(), lam);
+        assert_eq!(plan.suspension.lateral_stiffness, k);
+        let model = plan.model().expect("model");
+        let lin = analysis::linear(&plan, &model).expect("linear");
+        assert_eq!(
+            r.kalker_m_s,
+            lin.kalker.critical().map(|c| c.speed_m_s),
+            "{r:?}"
+        );
+        assert_eq!(
+            r.hopf_m_s,
+            lin.law_crossings().critical().map(|c| c.speed_m_s)
+        );
+        assert!(matches!(model.creep_law, CreepLaw::Shen { .. }));
+        let b =
+            bifurcation::analyse(&plan.name, &model, &plan.bifurcation_options()).expect("branch");
+        assert_eq!(r.nonlinear_m_s, b.nonlinear_critical_speed.map(|v| v.0));
+        assert_eq!(
+            r.ok(),
+            r.kalker_m_s.is_some() && r.hopf_m_s.is_some() && r.nonlinear_m_s.is_some()
+        );
+        found += usize::from(r.ok());
+    }
+    // the grid has both kinds of points
+    assert!((4..9).contains(&found), "{found} points ok");
+}
+
+fn critspeed(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_critspeed"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("critspeed-sweep-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+fn ok(out: &Output) {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn read(p: PathBuf) -> Vec<u8> {
+    std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// A study folder with the grid study written as study.toml.
+fn grid_dir(name: &str) -> PathBuf {
+    let dir = scratch(name);
+    std::fs::write(dir.join("study.toml"), with_sweep("grid", GRID)).expect("write study");
+    dir
+}
+
+#[test]
+fn threads_resume_and_shards_give_the_same_bytes() {
+    let dir = grid_dir("bytes");
+    ok(&critspeed(
+        &["--out", "t1", "sweep", "study.toml", "--threads", "1"],
+        &dir,
+    ));
+    ok(&critspeed(
+        &["--out", "t2", "sweep", "study.toml", "--threads", "2"],
+        &dir,
+    ));
+    let whole = read(dir.join("t1/grid/sweep.csv"));
+    assert_eq!(
+        whole,
+        read(dir.join("t2/grid/sweep.csv")),
+        "--threads 1 vs 2"
+    );
+    let text = String::from_utf8(whole.clone()).expect("utf8");
+    assert_eq!(text.lines().count(), 10);
+    assert!(text.starts_with(
+        "point_id,contact.conicity,suspension.lateral_stiffness_n_per_m,kalker_critical_speed_m_s,\
+hopf_speed_m_s,nonlinear_critical_speed_m_s,status,"
+    ));
+    assert!(text.contains(",failed: "), "{text}");
+    assert!(dir.join("t1/grid/sweep_map_nonlinear.svg").is_file());
+
+    // interrupted: keep 4 finished points and half of the fifth line, then run again
+    let rec = String::from_utf8(read(dir.join("t2/grid/sweep.records.csv"))).expect("utf8");
+    let lines: Vec<&str> = rec.lines().collect();
+    let head = lines
+        .iter()
+        .take_while(|l| !l.starts_with(|c: char| c.is_ascii_digit()))
+        .count();
+    let kept = lines[..head + 4].join("\n") + "\n" + &lines[head + 4][..10];
+    std::fs::create_dir_all(dir.join("r/grid")).expect("dir");
+    std::fs::write(dir.join("r/grid/sweep.records.csv"), kept).expect("write");
+    let out = critspeed(
+        &["--out", "r", "sweep", "study.toml", "--threads", "2"],
+        &dir,
+    );
+    ok(&out);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("resuming: 4 of 9 points"));
+    assert_eq!(whole, read(dir.join("r/grid/sweep.csv")), "resumed");
+
+    // shards 0/3 and 2/3, then merge reports the missing shard, then 1/3 and merge
+    for s in ["0/3", "2/3"] {
+        ok(&critspeed(
+            &["--out", "s", "sweep", "study.toml", "--shard", s],
+            &dir,
+        ));
+    }
+    let partial = critspeed(&["--out", "s", "merge", "study.toml"], &dir);
+    assert_eq!(partial.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&partial.stderr).contains("3 of 9 points missing: 1, 4, 7"));
+    let out = Command::new(env!("CARGO_BIN_EXE_critspeed"))
+        .args(["--out", "s", "sweep", "study.toml", "--shard-from-env"])
+        .env("SLURM_ARRAY_TASK_ID", "2")
+        .env("SLURM_ARRAY_TASK_MIN", "1")
+        .env("SLURM_ARRAY_TASK_COUNT", "3")
+        .current_dir(&dir)
+        .output()
+        .expect("runs");
+    ok(&out);
+    assert!(dir.join("s/grid/sweep.shard-1-of-3.records.csv").is_file());
+    ok(&critspeed(&["--out", "s", "merge", "study.toml"], &dir));
+    assert_eq!(whole, read(dir.join("s/grid/sweep.csv")), "merged shards");
+
+    // sweep.csv reads back to the same rows
+    let csv = sweep::read_csv(&dir.join("s/grid/sweep.csv")).expect("read");
+    assert_eq!(csv.rows.len(), 9);
+    assert_eq!(
+        sweep::sweep_csv(
+            &SweepStudy::load(&dir.join("study.toml"))
+                .expect("study")
+                .spec
+                .axes,
+            &csv.rows
+        )
+        .into_bytes(),
+        whole
+    );
+}
+
+#[test]
+fn merge_refuses_another_studys_shard() {
+    let dir = grid_dir("foreign");
+    let other = with_sweep("grid", &GRID.replace("count = 3 }", "count = 2 }"));
+    std::fs::write(dir.join("other.toml"), other).expect("write");
+    ok(&critspeed(
+        &["--out", "o", "sweep", "other.toml", "--shard", "0/4"],
+        &dir,
+    ));
+    let out = critspeed(&["--out", "o", "merge", "study.toml"], &dir);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("sweep.shard-0-of-4.records.csv") && err.contains("another study"),
+        "{err}"
+    );
+    // and a resume refuses it too
+    std::fs::rename(
+        dir.join("o/grid/sweep.shard-0-of-4.records.csv"),
+        dir.join("o/grid/sweep.records.csv"),
+    )
+    .expect("mv");
+    let out = critspeed(&["--out", "o", "sweep", "study.toml"], &dir);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn bad_axis_key_or_unit_is_a_user_error_naming_it() {
+    let dir = scratch("bad");
+    let cases = [
+        (
+            GRID.replace("contact.conicity", "contact.conicty"),
+            "contact.conicty",
+        ),
+        (
+            GRID.replace("\"200 N/mm\"", "\"200 N s/mm\""),
+            "suspension.lateral_stiffness",
+        ),
+        (
+            GRID.replace("from = 0.03", "from = -0.03"),
+            "contact.conicity",
+        ),
+        (
+            GRID.replace(
+                "count = 3, spacing = \"log\"",
+                "count = 3, spacing = \"cubic\"",
+            ),
+            "cubic",
+        ),
+        (GRID.replace("\"nonlinear\"", "\"nonlinar\""), "nonlinar"),
+    ];
+    for (k, (sweep, name)) in cases.iter().enumerate() {
+        let file = format!("bad{k}.toml");
+        std::fs::write(dir.join(&file), with_sweep("bad", sweep)).expect("write");
+        let out = critspeed(&["sweep", &file], &dir);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains(name), "{name}: {err}");
+    }
+    std::fs::write(dir.join("good.toml"), with_sweep("good", GRID)).expect("write");
+    let out = critspeed(&["sweep", "good.toml", "--shard", "3/3"], &dir);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("\"3/3\""));
+}
+
+/// studies/conicity-wear.toml: wear (a steeper cone) lowers the critical speed at every step,
+/// for the Kalker model and the study's Shen law alike.
+#[test]
+fn higher_conicity_lowers_the_critical_speed() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/conicity-wear.toml");
+    let text = std::fs::read_to_string(path).expect("study").replace(
+        "\"kalker\", \"hopf\", \"nonlinear\"",
+        "\"kalker\", \"hopf\"",
+    );
+    let s = SweepStudy::parse(&text, path).expect("study");
+    let opts = SweepOptions {
+        threads: Some(2),
+        shard: Shard::ALL,
+        records: None,
+    };
+    let rows = sweep::run(&s, &opts, None).expect("sweep").rows;
+    for get in [
+        |r: &sweep::PointRecord| r.kalker_m_s,
+        |r: &sweep::PointRecord| r.hopf_m_s,
+    ] {
+        let v: Vec<f64> = rows.iter().filter_map(get).collect();
+        assert!(v.len() >= 8, "{v:?}");
+        assert!(v.windows(2).all(|w| w[1] < w[0]), "{v:?}");
+    }
+}
+
+#[test]
+fn studies_with_sweep_and_trade_sections_load_everywhere() {
+    let text =
+        with_sweep("both", GRID) + "\n[trade]\nanything = \"is parsed by critspeed trade\"\n";
+    let plan = study::parse(&text, "both").expect("a study with [sweep] and [trade] loads");
+    assert_eq!(plan.name, "both");
+    let s = SweepStudy::parse(&text, "both").expect("sweep study");
+    // [trade] does not change the fingerprint
+    assert_eq!(
+        s.fingerprint,
+        SweepStudy::parse(&with_sweep("both", GRID), "b")
+            .expect("s")
+            .fingerprint
+    );
+    let err = SweepStudy::parse(&base_text(), "plain").expect_err("no [sweep]");
+    assert!(err.to_string().contains("no [sweep] section"), "{err}");
+}
