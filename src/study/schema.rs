@@ -33,6 +33,10 @@ pub struct StudyFile {
     pub linear: Option<LinearSection>,
     #[serde(default)]
     pub bifurcation: Option<BifurcationSection>,
+    #[serde(default)]
+    pub sweep: Option<toml::Table>,
+    #[serde(default)]
+    pub trade: Option<toml::Table>,
 }
 
 #[derive(Clone, Debug, Deserialize)]

@@ -1,0 +1,319 @@
+//! Two-axis maps: cells coloured by a value, labelled contour lines, failed points hatched,
+//! and one distinguished threshold contour (e.g. the operating speed on a critical-speed map).
+
+use super::contour::contour_lines;
+use super::palette::viridis;
+use super::scale::{format_value, text_width};
+use super::svg::{hex, nice_ticks, AxisMap, Doc, Frame, LABEL_PX, TICK_PX};
+use super::PlotError;
+
+/// A value `z` sampled on the grid `x × y`, to be drawn as a heat map with contours.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeatMap {
+    /// Title drawn above the map.
+    pub title: String,
+    /// X-axis title including units, e.g. `"longitudinal stiffness (N/mm)"`.
+    pub x_label: String,
+    /// Y-axis title including units.
+    pub y_label: String,
+    /// Grid abscissae, strictly increasing, at least 2 (positive when `x_log`).
+    pub x: Vec<f64>,
+    /// Grid ordinates, strictly increasing, at least 2 (positive when `y_log`).
+    pub y: Vec<f64>,
+    /// Logarithmic x axis.
+    pub x_log: bool,
+    /// Logarithmic y axis.
+    pub y_log: bool,
+    /// Values, `z[j·nx + i]` at `(x[i], y[j])`; `None` (or non-finite) = failed point.
+    pub z: Vec<Option<f64>>,
+    /// Colour-bar title including units, e.g. `"critical speed (m/s)"`.
+    pub z_label: String,
+    /// A distinguished contour level and its label, e.g.
+    /// `(55.56, "stable above / unstable below: V = 55.6 m/s")`.
+    pub threshold: Option<(f64, String)>,
+}
+
+const W: f64 = 880.0;
+const H: f64 = 600.0;
+const PLOT: (f64, f64, f64, f64) = (95.0, W - 215.0, H - 70.0, 72.0); // x0, x1, y0 (bottom), y1
+const BAR_X: f64 = W - 185.0;
+const THRESHOLD: &str = "#d55e00";
+const FAILED_DEFS: &str = "<pattern id=\"failed\" width=\"8\" height=\"8\" \
+    patternUnits=\"userSpaceOnUse\" patternTransform=\"rotate(45)\">\
+    <rect width=\"8\" height=\"8\" fill=\"#c8c8c8\"/>\
+    <line x1=\"0\" y1=\"0\" x2=\"0\" y2=\"8\" stroke=\"#808080\" stroke-width=\"3\"/></pattern>";
+
+fn invalid(h: &HeatMap, rule: String) -> PlotError {
+    PlotError::Invalid {
+        title: h.title.clone(),
+        rule,
+    }
+}
+
+fn check_axis(h: &HeatMap, name: &str, v: &[f64], log: bool) -> Result<(), PlotError> {
+    if v.len() < 2 {
+        return Err(invalid(
+            h,
+            format!("{name} has {} points; at least 2 needed", v.len()),
+        ));
+    }
+    if let Some(i) = v.iter().position(|a| !a.is_finite() || (log && *a <= 0.0)) {
+        let need = if log {
+            "finite and positive (log axis)"
+        } else {
+            "finite"
+        };
+        return Err(invalid(h, format!("{name}[{i}] = {} must be {need}", v[i])));
+    }
+    if let Some(i) = v.windows(2).position(|w| w[1] <= w[0]) {
+        let rule = format!(
+            "{name} must increase strictly; {name}[{}] = {} follows {}",
+            i + 1,
+            v[i + 1],
+            v[i]
+        );
+        return Err(invalid(h, rule));
+    }
+    Ok(())
+}
+
+/// Range of the finite values of `z`, or an error when there are none.
+fn validate(h: &HeatMap) -> Result<(f64, f64), PlotError> {
+    check_axis(h, "x", &h.x, h.x_log)?;
+    check_axis(h, "y", &h.y, h.y_log)?;
+    let n = h.x.len() * h.y.len();
+    if h.z.len() != n {
+        let rule = format!(
+            "z has {} values; x × y needs {} × {} = {n}",
+            h.z.len(),
+            h.x.len(),
+            h.y.len()
+        );
+        return Err(invalid(h, rule));
+    }
+    if let Some((t, _)) = h.threshold.as_ref().filter(|(t, _)| !t.is_finite()) {
+        return Err(invalid(h, format!("threshold {t} is not finite")));
+    }
+    let finite = h.z.iter().flatten().filter(|v| v.is_finite());
+    let range = finite.fold(None, |acc: Option<(f64, f64)>, &v| match acc {
+        None => Some((v, v)),
+        Some((a, b)) => Some((a.min(v), b.max(v))),
+    });
+    range.ok_or_else(|| PlotError::Empty {
+        title: h.title.clone(),
+    })
+}
+
+/// Cell boundaries around each node: midpoints (geometric on a log axis), half a step
+/// beyond the end nodes.
+fn cell_edges(v: &[f64], log: bool) -> Vec<f64> {
+    let mid = |a: f64, b: f64| if log { (a * b).sqrt() } else { 0.5 * (a + b) };
+    let n = v.len();
+    let mut e = Vec::with_capacity(n + 1);
+    let first = if log {
+        v[0] * (v[0] / v[1]).sqrt()
+    } else {
+        v[0] - 0.5 * (v[1] - v[0])
+    };
+    e.push(first);
+    e.extend(v.windows(2).map(|w| mid(w[0], w[1])));
+    let last = if log {
+        v[n - 1] * (v[n - 1] / v[n - 2]).sqrt()
+    } else {
+        v[n - 1] + 0.5 * (v[n - 1] - v[n - 2])
+    };
+    e.push(last);
+    e
+}
+
+/// Contour levels: "nice" values strictly inside the data range (about 6 of them).
+pub(crate) fn contour_levels(lo: f64, hi: f64) -> Vec<f64> {
+    let span = hi - lo;
+    nice_ticks(lo, hi, 6)
+        .into_iter()
+        .filter(|l| *l > lo + 1e-9 * span && *l < hi - 1e-9 * span)
+        .collect()
+}
+
+/// Render the heat map as an SVG document (880×600 px).
+///
+/// Errors: [`PlotError::Invalid`] for fewer than 2 points on an axis, non-finite or (log)
+/// non-positive or non-increasing axis values, a `z` of the wrong length or a non-finite
+/// threshold; [`PlotError::Empty`] when no `z` is finite.
+pub fn heat_map_svg(h: &HeatMap) -> Result<String, PlotError> {
+    let (zlo, zhi) = validate(h)?;
+    let (zlo, zhi) = if zhi > zlo {
+        (zlo, zhi)
+    } else {
+        (zlo - 1.0, zhi + 1.0)
+    };
+    let (ex, ey) = (cell_edges(&h.x, h.x_log), cell_edges(&h.y, h.y_log));
+    let ax = |v: &[f64], log, p0, p1| AxisMap {
+        lo: v[0],
+        hi: v[v.len() - 1],
+        log,
+        p0,
+        p1,
+    };
+    let xm = ax(&ex, h.x_log, PLOT.0, PLOT.1);
+    let ym = ax(&ey, h.y_log, PLOT.2, PLOT.3);
+    let mut doc = Doc::new(W, H, FAILED_DEFS);
+    let nx = h.x.len();
+    let mut failed = 0;
+    for (k, z) in h.z.iter().enumerate() {
+        let (i, j) = (k % nx, k / nx);
+        let a = (xm.px(ex[i]), ym.px(ey[j]));
+        let b = (xm.px(ex[i + 1]), ym.px(ey[j + 1]));
+        let fill = match z.filter(|v| v.is_finite()) {
+            Some(v) => hex(viridis((v - zlo) / (zhi - zlo))),
+            None => {
+                failed += 1;
+                "url(#failed)".to_string()
+            }
+        };
+        // a hair of overlap hides anti-aliasing seams between cells
+        doc.rect((a.0 - 0.3, a.1 + 0.3), (b.0 + 0.3, b.1 - 0.3), &fill, None);
+    }
+    let levels = contour_levels(zlo, zhi);
+    for &l in &levels {
+        draw_contour(&mut doc, h, (&xm, &ym), l, "#1a1a1a", &format_value(l))?;
+    }
+    let frame = Frame {
+        x: xm,
+        y: ym,
+        title: "",
+        x_label: &h.x_label,
+        y_label: &h.y_label,
+    };
+    frame.draw(&mut doc, false);
+    let centre = (PLOT.0 + PLOT.1) / 2.0;
+    doc.text(centre, 26.0, super::svg::TITLE_PX, "middle", 0.0, &h.title);
+    if let Some((t, label)) = &h.threshold {
+        draw_contour(&mut doc, h, (&xm, &ym), *t, THRESHOLD, &format_value(*t))?;
+        // the full threshold label as a key line under the title
+        let w = text_width(label, LABEL_PX) + 34.0;
+        let x = centre - w / 2.0;
+        doc.polyline(&[(x, 47.0), (x + 26.0, 47.0)], THRESHOLD, 3.0, Some("9 5"));
+        doc.text(x + 34.0, 51.5, LABEL_PX, "start", 0.0, label);
+    }
+    colour_bar(&mut doc, h, (zlo, zhi), &levels);
+    legend(&mut doc, h, failed);
+    Ok(doc.finish())
+}
+
+fn draw_contour(
+    doc: &mut Doc,
+    h: &HeatMap,
+    (xm, ym): (&AxisMap, &AxisMap),
+    level: f64,
+    colour: &str,
+    label: &str,
+) -> Result<(), PlotError> {
+    let threshold = colour == THRESHOLD;
+    let lines = contour_lines(&h.x, &h.y, &h.z, level);
+    let px: Vec<Vec<(f64, f64)>> = lines
+        .iter()
+        .map(|l| l.iter().map(|p| (xm.px(p.0), ym.px(p.1))).collect())
+        .collect();
+    let len = |l: &[(f64, f64)]| -> f64 {
+        l.windows(2)
+            .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
+            .sum()
+    };
+    for l in &px {
+        let (width, dash) = if threshold {
+            (3.0, Some("9 5"))
+        } else {
+            (1.1, None)
+        };
+        doc.polyline(l, colour, width, dash);
+    }
+    // one label per level, at the middle vertex of its longest line
+    let longest = px.iter().max_by(|a, b| len(a).total_cmp(&len(b)));
+    if let Some(l) = longest.filter(|l| len(l) > 40.0) {
+        let (x, y) = l[l.len() / 2];
+        let size = if threshold { LABEL_PX } else { TICK_PX - 1.0 };
+        let w = text_width(label, size) / 2.0 + 4.0;
+        let x = x.clamp(PLOT.0 + w, PLOT.1 - w);
+        doc.label(x, y, size, colour, label);
+    }
+    Ok(())
+}
+
+fn colour_bar(doc: &mut Doc, h: &HeatMap, (lo, hi): (f64, f64), levels: &[f64]) {
+    let (top, bottom) = (PLOT.3, PLOT.2 - 90.0);
+    let bar = AxisMap {
+        lo,
+        hi,
+        log: false,
+        p0: bottom,
+        p1: top,
+    };
+    let steps = 64;
+    for s in 0..steps {
+        let (a, b) = (s as f64 / steps as f64, (s + 1) as f64 / steps as f64);
+        let ya = bottom + a * (top - bottom);
+        let yb = bottom + b * (top - bottom);
+        let c = hex(viridis((a + b) / 2.0));
+        doc.rect((BAR_X, ya + 0.3), (BAR_X + 18.0, yb - 0.3), &c, None);
+    }
+    doc.rect(
+        (BAR_X, bottom),
+        (BAR_X + 18.0, top),
+        "none",
+        Some("#555555"),
+    );
+    for &v in levels {
+        let y = bar.px(v);
+        doc.polyline(&[(BAR_X, y), (BAR_X + 23.0, y)], "#1a1a1a", 1.0, None);
+        doc.text(
+            BAR_X + 27.0,
+            y + 4.0,
+            TICK_PX,
+            "start",
+            0.0,
+            &format_value(v),
+        );
+    }
+    for (v, anchor) in [(lo, bottom + 14.0), (hi, top - 5.0)] {
+        doc.text(
+            BAR_X + 9.0,
+            anchor,
+            TICK_PX - 1.0,
+            "middle",
+            0.0,
+            &format_value(v),
+        );
+    }
+    if let Some((t, _)) = h.threshold.as_ref().filter(|(t, _)| *t >= lo && *t <= hi) {
+        let y = bar.px(*t);
+        doc.polyline(&[(BAR_X - 4.0, y), (BAR_X + 22.0, y)], THRESHOLD, 3.0, None);
+    }
+    let mid = (top + bottom) / 2.0;
+    doc.text(BAR_X + 80.0, mid, LABEL_PX, "middle", 90.0, &h.z_label);
+}
+
+fn legend(doc: &mut Doc, h: &HeatMap, failed: usize) {
+    let (x, mut y) = (BAR_X - 10.0, PLOT.2 - 62.0);
+    if let Some((t, _)) = &h.threshold {
+        doc.polyline(&[(x, y), (x + 26.0, y)], THRESHOLD, 3.0, Some("9 5"));
+        let text = format!("threshold {}", format_value(*t));
+        doc.text(x + 32.0, y + 4.0, TICK_PX, "start", 0.0, &text);
+        if contour_lines(&h.x, &h.y, &h.z, *t).is_empty() {
+            y += 16.0;
+            let note = "(not reached on this map)";
+            doc.text(x + 32.0, y + 4.0, TICK_PX - 2.0, "start", 0.0, note);
+        }
+        y += 22.0;
+    }
+    if failed > 0 {
+        doc.rect(
+            (x, y - 7.0),
+            (x + 26.0, y + 7.0),
+            "url(#failed)",
+            Some("#555555"),
+        );
+        let text = format!("failed point ({failed})");
+        doc.text(x + 32.0, y + 4.0, TICK_PX, "start", 0.0, &text);
+    }
+}
