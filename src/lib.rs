@@ -53,3 +53,4 @@ pub mod study;
 pub mod system;
 #[cfg(test)]
 mod testutil;
+pub mod trade;
