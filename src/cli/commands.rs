@@ -82,6 +82,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
         }
         Command::Ramp(args) => super::ramp::run(args, &cli.out),
         Command::Conicity(args) => super::conicity::run(args, &cli.out),
+        Command::Trade(args) => super::trade::run(args, &cli.out),
         Command::Geometry { study } => {
             let plan = load(study)?;
             let model = build(&plan)?;

@@ -19,6 +19,7 @@
 //!   to the earlier row.
 
 pub mod plan;
+pub mod report;
 pub mod select;
 pub mod table;
 

@@ -130,19 +130,20 @@ impl SweepTable {
         }
     }
 
-    /// Index of the column of swept key `key` (`<key>_<unit>`).
+    /// Index of the column of swept key `key` (`<key>_<unit>`, or `<key>` when dimensionless).
     pub fn axis_column(&self, key: &str) -> Result<usize, TradeError> {
         let prefix = format!("{key}_");
+        // dimensionless keys have no unit suffix
         let mut hits = self
             .header
             .iter()
             .enumerate()
-            .filter(|(_, c)| c.starts_with(&prefix));
+            .filter(|(_, c)| c.starts_with(&prefix) || *c == key);
         match (hits.next(), hits.next()) {
             (Some((i, _)), None) => Ok(i),
             _ => Err(self.missing(
                 format!("the swept key {key}"),
-                format!("one column {prefix}<unit>"),
+                format!("one column {key} or {prefix}<unit>"),
             )),
         }
     }
