@@ -212,10 +212,19 @@ fn legend(doc: &mut Doc, p: &TradePlot, x: f64, y: f64) {
             "fill=\"none\" stroke=\"#000000\" stroke-width=\"2.2\"",
         );
         let v = b.y.map_or("-".to_string(), format_value);
-        entry(doc, &format!("  x = {}, y = {v}", format_value(b.x)));
+        let (ux, uy) = (unit_of(&p.x_label), unit_of(&p.y_label));
+        entry(doc, &format!("  {} {ux}, {v} {uy}", format_value(b.x)));
     }
     if p.constraint.is_some() {
         let yy = entry(doc, "constraint");
         doc.polyline(&[(x, yy), (x + 24.0, yy)], "#444444", 1.5, Some("7 4"));
+    }
+}
+
+/// The unit in the last parentheses of an axis title, e.g. `"N/mm"` from `"k (N/mm)"`.
+fn unit_of(label: &str) -> &str {
+    match (label.rfind('('), label.rfind(')')) {
+        (Some(a), Some(b)) if b > a => &label[a + 1..b],
+        _ => "",
     }
 }

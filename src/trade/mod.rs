@@ -112,7 +112,7 @@ pub struct Constraint {
     /// upper bound (SI), inclusive
     pub at_most: Option<f64>,
     /// the constraint as written with its SI value, for labels, e.g.
-    /// `nonlinear_critical_speed >= 1.1 × 50 m/s = 55 m/s`
+    /// `nonlinear_critical_speed ≥ 1.1 × 50 m/s = 55 m/s`
     pub text: String,
 }
 

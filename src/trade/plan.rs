@@ -192,8 +192,8 @@ fn constraint(v: &Value, key: &str) -> Result<Constraint, StudyError> {
         Target::Axis { key, .. } => key.clone(),
     };
     let text = [
-        lo.as_ref().map(|(_, s)| format!("{name} >= {s}")),
-        hi.as_ref().map(|(_, s)| format!("{name} <= {s}")),
+        lo.as_ref().map(|(_, s)| format!("{name} ≥ {s}")),
+        hi.as_ref().map(|(_, s)| format!("{name} ≤ {s}")),
     ]
     .into_iter()
     .flatten()

@@ -58,30 +58,23 @@ pub fn summary(study: &str, plan: &TradePlan, rows: &[Row], a: &[Assessment]) ->
         }
         None => s.push_str("best: none (no point is feasible)\n"),
     }
-    let (unit, _) = display_unit(plan.objective.dim);
+    let (unit, f) = display_unit(plan.objective.dim);
     let front = front_order(plan, rows, a);
     let _ = writeln!(
         s,
         "Pareto front ({p} against {key}), {} points:",
         front.len()
     );
-    let _ = writeln!(
-        s,
-        "  {:>8}  {:>16}  {:>12}  feasible",
-        "point",
-        format!("({unit})"),
-        "(m/s)"
-    );
+    let short = key.rsplit('.').next().unwrap_or(key);
+    let (xh, vh) = (format!("{short} ({unit})"), format!("{p} (m/s)"));
+    let (wx, wv) = (xh.chars().count(), vh.chars().count());
+    let _ = writeln!(s, "  {:>8}  {xh}  {vh}  feasible", "point");
     for i in front {
-        let (_, f) = display_unit(plan.objective.dim);
         let x = rows[i].axis(key).map_or("-".into(), |v| fmt_si(v * f));
         let v = rows[i].result(plan.pareto).map_or("-".into(), fmt_si);
         let mark = if a[i].best { " (best)" } else { "" };
-        let _ = writeln!(
-            s,
-            "  {:>8}  {:>16}  {:>12}  {}{mark}",
-            rows[i].id, x, v, a[i].feasible
-        );
+        let id = &rows[i].id;
+        let _ = writeln!(s, "  {id:>8}  {x:>wx$}  {v:>wv$}  {}{mark}", a[i].feasible);
     }
     s
 }

@@ -90,7 +90,12 @@ fn check(row: &Row, c: &Constraint) -> Option<String> {
 /// Why `row` is infeasible, or `None` when it is feasible.
 pub fn infeasibility(plan: &TradePlan, row: &Row) -> Option<String> {
     if !row.ok() {
-        return Some(format!("failed: {}", row.status));
+        let s = row.status.trim();
+        return Some(if s.starts_with("failed") {
+            s.to_string()
+        } else {
+            format!("failed: {s}")
+        });
     }
     let mut why: Vec<String> = Vec::new();
     if row.axis(&plan.objective.key).is_none() {

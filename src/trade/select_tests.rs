@@ -46,7 +46,8 @@ fn monotone_trade_has_closed_form_best() {
     let ks: Vec<f64> = (0..25).map(|i| 1e5 * 30f64.powf(i as f64 / 24.0)).collect();
     let v = |k: f64| 40.0 + 10.0 * (k / 1e5).ln();
     let mut rows: Vec<Row> = ks.iter().map(|&k| row(k, 0.0, Some(v(k)), "ok")).collect();
-    rows[3].status = "continuation failed".into();
+    rows[3].status = "failed: continuation".into();
+    rows[4].status = "no cycle".into();
     rows[20].results[2] = None; // nonlinear speed not found
     let a = assess(&plan(Sense::Minimize, 60.0), &rows);
     let k_min = 1e5 * 2f64.exp();
@@ -56,12 +57,13 @@ fn monotone_trade_has_closed_form_best() {
         .expect("grid reaches it");
     assert_eq!(a.iter().position(|x| x.best), Some(want));
     for (i, (x, &k)) in a.iter().zip(&ks).enumerate() {
-        let expect = k >= k_min && i != 3 && i != 20;
+        let expect = k >= k_min && ![3, 4, 20].contains(&i);
         assert_eq!(x.feasible, expect, "point {i}: {}", x.reason);
         // with V increasing in k every computed point is non-dominated
-        assert_eq!(x.pareto, i != 3 && i != 20, "point {i}");
+        assert_eq!(x.pareto, ![3, 4, 20].contains(&i), "point {i}");
     }
-    assert_eq!(a[3].reason, "failed: continuation failed");
+    assert_eq!(a[3].reason, "failed: continuation");
+    assert_eq!(a[4].reason, "failed: no cycle");
     assert_eq!(a[20].reason, "nonlinear_critical_speed not available");
     assert!(
         a[0].reason
