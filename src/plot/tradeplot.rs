@@ -101,7 +101,7 @@ pub fn trade_svg(p: &TradePlot) -> Result<String, PlotError> {
     let (ylo, yhi) = padded(range(ys).unwrap_or((0.0, 1.0)), false);
     let xr = range(p.points.iter().map(|t| t.x)).unwrap_or((1.0, 2.0));
     let (xlo, xhi) = padded(xr, p.x_log);
-    let (x0, x1, yb, yt) = (95.0, W - 215.0, H - 70.0, 55.0);
+    let (x0, x1, yb, yt) = (95.0, W - 215.0, H - 70.0, 72.0);
     let xm = AxisMap {
         lo: xlo,
         hi: xhi,
@@ -120,26 +120,41 @@ pub fn trade_svg(p: &TradePlot) -> Result<String, PlotError> {
     let frame = Frame {
         x: xm,
         y: ym,
-        title: &p.title,
+        title: "",
         x_label: &p.x_label,
         y_label: &p.y_label,
     };
     frame.draw(&mut doc, true);
-    if let Some((c, label)) = p.constraint.as_ref().filter(|c| c.0.is_finite()) {
-        let y = ym.px(*c);
-        doc.polyline(&[(x0, y), (x1, y)], "#444444", 1.5, Some("7 4"));
-        doc.label(
-            x1 - 8.0 - super::scale::text_width(label, TICK_PX) / 2.0,
-            y - 11.0,
-            TICK_PX,
-            "#222222",
-            label,
-        );
-    }
+    doc.text(
+        (x0 + x1) / 2.0,
+        26.0,
+        super::svg::TITLE_PX,
+        "middle",
+        0.0,
+        &p.title,
+    );
     let pt = |t: &TradePoint| {
         t.y.filter(|y| y.is_finite())
             .map(|y| (xm.px(t.x), ym.px(y)))
     };
+    if let Some((c, label)) = p.constraint.as_ref().filter(|c| c.0.is_finite()) {
+        let y = ym.px(*c);
+        doc.polyline(&[(x0, y), (x1, y)], "#444444", 1.5, Some("7 4"));
+        // the full text as a key line under the title, the value beside the line
+        let w = super::scale::text_width(label, super::svg::LABEL_PX) + 34.0;
+        let kx = (x0 + x1) / 2.0 - w / 2.0;
+        doc.polyline(
+            &[(kx, 47.0), (kx + 26.0, 47.0)],
+            "#444444",
+            1.5,
+            Some("7 4"),
+        );
+        doc.text(kx + 34.0, 51.5, super::svg::LABEL_PX, "start", 0.0, label);
+        let short = format!("{} {}", format_value(*c), unit_of(&p.y_label));
+        let drawn: Vec<(f64, f64)> = p.points.iter().filter_map(pt).collect();
+        let (cx, cy) = label_spot(&drawn, &short, (x0, x1), y);
+        doc.label(cx, cy, TICK_PX, "#222222", &short);
+    }
     let mut front: Vec<&TradePoint> = p
         .points
         .iter()
@@ -227,4 +242,25 @@ fn unit_of(label: &str) -> &str {
         (Some(a), Some(b)) if b > a => &label[a + 1..b],
         _ => "",
     }
+}
+
+/// Centre of the constraint label: right or left end, above or below the line at pixel `y`,
+/// whichever box holds the fewest drawn points (ties: right, above).
+fn label_spot(drawn: &[(f64, f64)], label: &str, (x0, x1): (f64, f64), y: f64) -> (f64, f64) {
+    let half_w = super::scale::text_width(label, TICK_PX) / 2.0 + 3.0;
+    let spots = [
+        (x1 - 8.0 - half_w, y - 11.0),
+        (x1 - 8.0 - half_w, y + 13.0),
+        (x0 + 8.0 + half_w, y - 11.0),
+        (x0 + 8.0 + half_w, y + 13.0),
+    ];
+    let hits = |(cx, cy): (f64, f64)| {
+        let inside =
+            |(px, py): &(f64, f64)| (px - cx).abs() < half_w + 10.0 && (py - cy).abs() < 20.0;
+        drawn.iter().filter(|p| inside(p)).count()
+    };
+    spots
+        .into_iter()
+        .min_by_key(|s| hits(*s))
+        .unwrap_or(spots[0])
 }
