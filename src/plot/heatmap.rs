@@ -158,6 +158,39 @@ pub fn heat_map_svg(h: &HeatMap) -> Result<String, PlotError> {
     let xm = ax(&ex, h.x_log, PLOT.0, PLOT.1);
     let ym = ax(&ey, h.y_log, PLOT.2, PLOT.3);
     let mut doc = Doc::new(W, H, FAILED_DEFS);
+    let failed = draw_cells(&mut doc, h, (&xm, &ym), (&ex, &ey), (zlo, zhi));
+    let levels = contour_levels(zlo, zhi);
+    for &l in &levels {
+        draw_contour(&mut doc, h, (&xm, &ym), l, "#1a1a1a", &format_value(l));
+    }
+    let frame = Frame {
+        x: xm,
+        y: ym,
+        title: "",
+        x_label: &h.x_label,
+        y_label: &h.y_label,
+    };
+    frame.draw(&mut doc, false);
+    let centre = (PLOT.0 + PLOT.1) / 2.0;
+    doc.text(centre, 26.0, super::svg::TITLE_PX, "middle", 0.0, &h.title);
+    if let Some((t, label)) = &h.threshold {
+        draw_contour(&mut doc, h, (&xm, &ym), *t, THRESHOLD, &format_value(*t));
+        // the full threshold label as a key line under the title
+        doc.key_line(centre, label, THRESHOLD, 3.0, "9 5");
+    }
+    colour_bar(&mut doc, h, (zlo, zhi), &levels);
+    legend(&mut doc, h, failed);
+    Ok(doc.finish())
+}
+
+/// Cells around each node coloured by its value, failed ones hatched; returns how many failed.
+fn draw_cells(
+    doc: &mut Doc,
+    h: &HeatMap,
+    (xm, ym): (&AxisMap, &AxisMap),
+    (ex, ey): (&[f64], &[f64]),
+    (zlo, zhi): (f64, f64),
+) -> usize {
     let nx = h.x.len();
     let mut failed = 0;
     for (k, z) in h.z.iter().enumerate() {
@@ -174,31 +207,7 @@ pub fn heat_map_svg(h: &HeatMap) -> Result<String, PlotError> {
         // a hair of overlap hides anti-aliasing seams between cells
         doc.rect((a.0 - 0.3, a.1 + 0.3), (b.0 + 0.3, b.1 - 0.3), &fill, None);
     }
-    let levels = contour_levels(zlo, zhi);
-    for &l in &levels {
-        draw_contour(&mut doc, h, (&xm, &ym), l, "#1a1a1a", &format_value(l))?;
-    }
-    let frame = Frame {
-        x: xm,
-        y: ym,
-        title: "",
-        x_label: &h.x_label,
-        y_label: &h.y_label,
-    };
-    frame.draw(&mut doc, false);
-    let centre = (PLOT.0 + PLOT.1) / 2.0;
-    doc.text(centre, 26.0, super::svg::TITLE_PX, "middle", 0.0, &h.title);
-    if let Some((t, label)) = &h.threshold {
-        draw_contour(&mut doc, h, (&xm, &ym), *t, THRESHOLD, &format_value(*t))?;
-        // the full threshold label as a key line under the title
-        let w = text_width(label, LABEL_PX) + 34.0;
-        let x = centre - w / 2.0;
-        doc.polyline(&[(x, 47.0), (x + 26.0, 47.0)], THRESHOLD, 3.0, Some("9 5"));
-        doc.text(x + 34.0, 51.5, LABEL_PX, "start", 0.0, label);
-    }
-    colour_bar(&mut doc, h, (zlo, zhi), &levels);
-    legend(&mut doc, h, failed);
-    Ok(doc.finish())
+    failed
 }
 
 fn draw_contour(
@@ -208,7 +217,7 @@ fn draw_contour(
     level: f64,
     colour: &str,
     label: &str,
-) -> Result<(), PlotError> {
+) {
     let threshold = colour == THRESHOLD;
     let lines = contour_lines(&h.x, &h.y, &h.z, level);
     let px: Vec<Vec<(f64, f64)>> = lines
@@ -237,7 +246,6 @@ fn draw_contour(
         let x = x.clamp(PLOT.0 + w, PLOT.1 - w);
         doc.label(x, y, size, colour, label);
     }
-    Ok(())
 }
 
 fn colour_bar(doc: &mut Doc, h: &HeatMap, (lo, hi): (f64, f64), levels: &[f64]) {

@@ -177,6 +177,14 @@ impl Doc {
         );
     }
 
+    /// A legend line centred at `x` under the title: a line sample, then `label`.
+    pub fn key_line(&mut self, x: f64, label: &str, colour: &str, width: f64, dash: &str) {
+        let w = text_width(label, LABEL_PX) + 34.0;
+        let x = x - w / 2.0;
+        self.polyline(&[(x, 47.0), (x + 26.0, 47.0)], colour, width, Some(dash));
+        self.text(x + 34.0, 51.5, LABEL_PX, "start", 0.0, label);
+    }
+
     /// Finish the document.
     pub fn finish(mut self) -> String {
         self.out.push_str("</svg>\n");

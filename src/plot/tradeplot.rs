@@ -141,15 +141,7 @@ pub fn trade_svg(p: &TradePlot) -> Result<String, PlotError> {
         let y = ym.px(*c);
         doc.polyline(&[(x0, y), (x1, y)], "#444444", 1.5, Some("7 4"));
         // the full text as a key line under the title, the value beside the line
-        let w = super::scale::text_width(label, super::svg::LABEL_PX) + 34.0;
-        let kx = (x0 + x1) / 2.0 - w / 2.0;
-        doc.polyline(
-            &[(kx, 47.0), (kx + 26.0, 47.0)],
-            "#444444",
-            1.5,
-            Some("7 4"),
-        );
-        doc.text(kx + 34.0, 51.5, super::svg::LABEL_PX, "start", 0.0, label);
+        doc.key_line((x0 + x1) / 2.0, label, "#444444", 1.5, "7 4");
         let short = format!("{} {}", format_value(*c), unit_of(&p.y_label));
         let drawn: Vec<(f64, f64)> = p.points.iter().filter_map(pt).collect();
         let (cx, cy) = label_spot(&drawn, &short, (x0, x1), y);
