@@ -126,13 +126,29 @@ fn cell_edges(v: &[f64], log: bool) -> Vec<f64> {
     e
 }
 
-/// Contour levels: "nice" values strictly inside the data range (about 6 of them).
+/// Contour levels: multiples of the largest "nice" step (1, 2, 2.5 or 5 × 10ⁿ) that gives at
+/// least five levels strictly inside the data range (so five to about nine of them).
 pub(crate) fn contour_levels(lo: f64, hi: f64) -> Vec<f64> {
     let span = hi - lo;
-    nice_ticks(lo, hi, 6)
-        .into_iter()
-        .filter(|l| *l > lo + 1e-9 * span && *l < hi - 1e-9 * span)
-        .collect()
+    if !(span.is_finite() && span > 0.0) {
+        return Vec::new();
+    }
+    let top = 10f64.powf(span.log10().floor());
+    let inside = |step: f64| -> Vec<f64> {
+        let (first, last) = (
+            (lo / step).floor() as i64 + 1,
+            (hi / step).ceil() as i64 - 1,
+        );
+        (first..=last)
+            .map(|k| k as f64 * step)
+            .filter(|l| *l > lo + 1e-9 * span && *l < hi - 1e-9 * span)
+            .collect()
+    };
+    let steps = (0..4).flat_map(|e| [5.0, 2.5, 2.0, 1.0].map(|m| m * top / 10f64.powi(e)));
+    steps
+        .map(inside)
+        .find(|l| l.len() >= 5)
+        .unwrap_or_else(|| nice_ticks(lo, hi, 6))
 }
 
 /// Render the heat map as an SVG document (880×600 px).
@@ -160,8 +176,26 @@ pub fn heat_map_svg(h: &HeatMap) -> Result<String, PlotError> {
     let mut doc = Doc::new(W, H, FAILED_DEFS);
     let failed = draw_cells(&mut doc, h, (&xm, &ym), (&ex, &ey), (zlo, zhi));
     let levels = contour_levels(zlo, zhi);
-    for &l in &levels {
-        draw_contour(&mut doc, h, (&xm, &ym), l, "#1a1a1a", &format_value(l));
+    let mut contours: Vec<Contour> = levels
+        .iter()
+        .map(|&l| Contour::new(h, (&xm, &ym), l, false))
+        .collect();
+    if let Some((t, _)) = &h.threshold {
+        contours.push(Contour::new(h, (&xm, &ym), *t, true));
+    }
+    // the threshold's label is placed first, the others where they do not collide
+    let mut placed = Vec::new();
+    let spots: Vec<Option<(f64, f64)>> = (0..contours.len())
+        .rev()
+        .map(|k| contours[k].place_label(&mut placed))
+        .collect();
+    for c in &contours {
+        c.draw_lines(&mut doc);
+    }
+    for (c, spot) in contours.iter().zip(spots.into_iter().rev()) {
+        if let Some((x, y)) = spot {
+            doc.label(x, y, c.size(), c.colour(), &c.text);
+        }
     }
     let frame = Frame {
         x: xm,
@@ -173,8 +207,7 @@ pub fn heat_map_svg(h: &HeatMap) -> Result<String, PlotError> {
     frame.draw(&mut doc, false);
     let centre = (PLOT.0 + PLOT.1) / 2.0;
     doc.text(centre, 26.0, super::svg::TITLE_PX, "middle", 0.0, &h.title);
-    if let Some((t, label)) = &h.threshold {
-        draw_contour(&mut doc, h, (&xm, &ym), *t, THRESHOLD, &format_value(*t));
+    if let Some((_, label)) = &h.threshold {
         // the full threshold label as a key line under the title
         doc.key_line(centre, label, THRESHOLD, 3.0, "9 5");
     }
@@ -210,41 +243,88 @@ fn draw_cells(
     failed
 }
 
-fn draw_contour(
-    doc: &mut Doc,
-    h: &HeatMap,
-    (xm, ym): (&AxisMap, &AxisMap),
-    level: f64,
-    colour: &str,
-    label: &str,
-) {
-    let threshold = colour == THRESHOLD;
-    let lines = contour_lines(&h.x, &h.y, &h.z, level);
-    let px: Vec<Vec<(f64, f64)>> = lines
-        .iter()
-        .map(|l| l.iter().map(|p| (xm.px(p.0), ym.px(p.1))).collect())
-        .collect();
-    let len = |l: &[(f64, f64)]| -> f64 {
-        l.windows(2)
-            .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
-            .sum()
-    };
-    for l in &px {
-        let (width, dash) = if threshold {
+/// One contour level in pixel coordinates, with its label text.
+struct Contour {
+    lines: Vec<Vec<(f64, f64)>>,
+    text: String,
+    threshold: bool,
+}
+
+/// A placed label box `(x0, x1, y0, y1)` in pixels.
+type LabelBox = (f64, f64, f64, f64);
+
+impl Contour {
+    fn new(h: &HeatMap, (xm, ym): (&AxisMap, &AxisMap), level: f64, threshold: bool) -> Self {
+        let lines = contour_lines(&h.x, &h.y, &h.z, level)
+            .iter()
+            .map(|l| l.iter().map(|p| (xm.px(p.0), ym.px(p.1))).collect())
+            .collect();
+        Contour {
+            lines,
+            text: format_value(level),
+            threshold,
+        }
+    }
+
+    fn colour(&self) -> &'static str {
+        if self.threshold {
+            THRESHOLD
+        } else {
+            "#1a1a1a"
+        }
+    }
+
+    fn size(&self) -> f64 {
+        if self.threshold {
+            LABEL_PX
+        } else {
+            TICK_PX - 1.0
+        }
+    }
+
+    fn draw_lines(&self, doc: &mut Doc) {
+        let (width, dash) = if self.threshold {
             (3.0, Some("9 5"))
         } else {
             (1.1, None)
         };
-        doc.polyline(l, colour, width, dash);
+        for l in &self.lines {
+            doc.polyline(l, self.colour(), width, dash);
+        }
     }
-    // one label per level, at the middle vertex of its longest line
-    let longest = px.iter().max_by(|a, b| len(a).total_cmp(&len(b)));
-    if let Some(l) = longest.filter(|l| len(l) > 40.0) {
-        let (x, y) = l[l.len() / 2];
-        let size = if threshold { LABEL_PX } else { TICK_PX - 1.0 };
-        let w = text_width(label, size) / 2.0 + 4.0;
-        let x = x.clamp(PLOT.0 + w, PLOT.1 - w);
-        doc.label(x, y, size, colour, label);
+
+    /// A label position on one of the lines (longest first, middle first) whose box does not
+    /// overlap a label already placed; `None` when every candidate collides.
+    fn place_label(&self, placed: &mut Vec<LabelBox>) -> Option<(f64, f64)> {
+        let len = |l: &[(f64, f64)]| -> f64 {
+            l.windows(2)
+                .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
+                .sum()
+        };
+        let mut lines: Vec<&Vec<(f64, f64)>> =
+            self.lines.iter().filter(|l| len(l) > 40.0).collect();
+        lines.sort_by(|a, b| len(b).total_cmp(&len(a)));
+        let (w, hh) = (
+            text_width(&self.text, self.size()) / 2.0 + 4.0,
+            0.75 * self.size() + 2.0,
+        );
+        let free = |b: &LabelBox| {
+            !placed
+                .iter()
+                .any(|p| b.0 < p.1 && p.0 < b.1 && b.2 < p.3 && p.2 < b.3)
+        };
+        for l in lines {
+            for f in [0.5, 0.35, 0.65, 0.2, 0.8] {
+                let (x, y) = l[((l.len() - 1) as f64 * f).round() as usize];
+                let x = x.clamp(PLOT.0 + w, PLOT.1 - w);
+                let b = (x - w, x + w, y - hh, y + hh);
+                if free(&b) {
+                    placed.push(b);
+                    return Some((x, y));
+                }
+            }
+        }
+        None
     }
 }
 

@@ -54,7 +54,7 @@ fn svg_has_labels_colour_bar_and_threshold() {
         .iter()
         .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
     let levels = contour_levels(lo, hi);
-    assert!((4..=9).contains(&levels.len()), "{levels:?}");
+    assert!((5..=9).contains(&levels.len()), "{levels:?}");
     for l in &levels {
         assert!(svg.contains(&format!(">{}</text>", scale::format_value(*l))));
     }
@@ -107,6 +107,29 @@ fn invalid_maps_are_errors_not_panics() {
     let mut h = good;
     h.threshold = Some((f64::INFINITY, String::new()));
     assert!(heat_map_svg(&h).is_err());
+}
+
+#[test]
+fn contour_levels_are_five_to_nine_nice_values_inside() {
+    for (lo, hi) in [
+        (17.22, 190.6),
+        (0.0, 1.0),
+        (20.8, 140.0),
+        (-3.0, 1e-3),
+        (1e5, 3e6),
+        (0.3, 0.31),
+    ] {
+        let l = contour_levels(lo, hi);
+        assert!((5..=9).contains(&l.len()), "{lo}..{hi}: {l:?}");
+        assert!(l.iter().all(|v| *v > lo && *v < hi), "{l:?}");
+        let step = l[1] - l[0];
+        let m = step / 10f64.powf(step.log10().floor());
+        assert!(
+            [1.0, 2.0, 2.5, 5.0].iter().any(|n| (m - n).abs() < 1e-9),
+            "step {step}"
+        );
+    }
+    assert!(contour_levels(1.0, 1.0).is_empty());
 }
 
 #[test]
