@@ -209,3 +209,41 @@ mod tests {
         assert!(contour_lines(&x, &y, &z[1..], 4.5).is_empty());
     }
 }
+
+#[cfg(test)]
+mod props {
+    use super::contour_lines;
+    use proptest::prelude::*;
+
+    fn increasing(steps: &[f64], start: f64) -> Vec<f64> {
+        // partial sums of positive steps: any strictly increasing grid
+        let mut v = vec![start];
+        for s in steps {
+            let last = v[v.len() - 1];
+            v.push(last + s);
+        }
+        v
+    }
+
+    proptest! {
+        /// A field linear in x and y, on any increasing grid: every vertex lies on the level.
+        #[test]
+        fn linear_field_vertices_are_exact(
+            dx in prop::collection::vec(0.01f64..2.0, 1..12),
+            dy in prop::collection::vec(0.01f64..2.0, 1..12),
+            a in -3.0f64..3.0, b in -3.0f64..3.0, t in 0.0f64..1.0,
+        ) {
+            let (x, y) = (increasing(&dx, -1.0), increasing(&dy, 0.5));
+            let f = |p: (f64, f64)| a * p.0 + b * p.1;
+            let z: Vec<Option<f64>> = y.iter()
+                .flat_map(|&q| x.iter().map(move |&p| Some(f((p, q)))))
+                .collect();
+            let (lo, hi) = z.iter().flatten().fold((f64::MAX, f64::MIN), |(l, h), v| (l.min(*v), h.max(*v)));
+            let level = lo + t * (hi - lo);
+            let scale = 1.0 + a.abs() * x[x.len() - 1].abs().max(1.0) + b.abs() * y[y.len() - 1].abs();
+            for p in contour_lines(&x, &y, &z, level).iter().flatten() {
+                prop_assert!((f(*p) - level).abs() <= 1e-12 * scale, "{:?}: {} vs {}", p, f(*p), level);
+            }
+        }
+    }
+}

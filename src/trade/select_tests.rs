@@ -194,3 +194,33 @@ fn axis_constraints_bound_the_axis() {
     );
     assert!(a[1].feasible && a[1].best);
 }
+
+proptest::proptest! {
+    /// Small integer values force ties and duplicates, where dominance is easiest to get wrong.
+    #[test]
+    fn front_identities_hold(pts in proptest::collection::vec(
+        proptest::option::weighted(0.9, (0u8..8, 0u8..8)), 0..40), maximize: bool) {
+        let sense = if maximize { Sense::Maximize } else { Sense::Minimize };
+        let pts: Vec<Option<(f64, f64)>> =
+            pts.iter().map(|p| p.map(|(a, b)| (f64::from(a), f64::from(b)))).collect();
+        let front = pareto_front(sense, &pts);
+        for (i, p) in pts.iter().enumerate() {
+            let Some(b) = p else {
+                proptest::prop_assert!(!front[i]);
+                continue;
+            };
+            let dominated = pts.iter().flatten().any(|a| dominates(sense, *a, *b));
+            proptest::prop_assert_eq!(front[i], !dominated);
+            if !front[i] {
+                let by_front = pts.iter().zip(&front)
+                    .any(|(a, f)| *f && a.is_some_and(|a| dominates(sense, a, *b)));
+                proptest::prop_assert!(by_front, "point {} not dominated by the front", i);
+            }
+        }
+        // the best objective among candidates is on the front's objective extreme
+        let cands: Vec<Option<(f64, Option<f64>)>> = pts.iter().map(|p| p.map(|(x, v)| (x, Some(v)))).collect();
+        if let Some(b) = best_index(sense, &cands) {
+            proptest::prop_assert!(front[b], "best {} of the candidates is not on the front", b);
+        }
+    }
+}
