@@ -19,6 +19,9 @@
 //!    equations, event location at the flange); [`simulate`] runs time histories and the
 //!    ramp method.
 //! 6. [`output`], [`figures`] and [`plot`]: results as JSON/CSV and SVG under `out/<study>/`.
+//! 7. [`trade`]: a study's `[trade]` over its sweep's results: the feasible designs, the best
+//!    one and the Pareto front of critical speed against the objective
+//!    ([`plot::heat_map_svg`] draws two-axis maps with contours).
 //!
 //! [`reference`](mod@reference) holds problems with known answers (closed-form critical speed, the Hopf
 //! normal form) that the tests and benches share.

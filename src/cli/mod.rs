@@ -79,7 +79,7 @@ pub enum Command {
         /// Study file (TOML).
         study: PathBuf,
     },
-    /// The study's `[trade]` over its sweep (out/<name>/sweep.csv): the feasible set, the best
+    /// The study's `[trade]` over its sweep (`out/<name>/sweep.csv`): the feasible set, the best
     /// design and the Pareto front of critical speed against the objective (trade.csv, trade.svg).
     Trade(trade::TradeArgs),
     /// Validate a study and print the resolved plan in SI units.
