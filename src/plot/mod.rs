@@ -11,6 +11,7 @@
 //! avoid the factor altogether.
 
 mod contour;
+mod contour_labels;
 mod geom;
 mod heatmap;
 #[cfg(test)]

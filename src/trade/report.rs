@@ -40,7 +40,7 @@ pub fn summary(study: &str, plan: &TradePlan, rows: &[Row], a: &[Assessment]) ->
     let feasible = a.iter().filter(|x| x.feasible).count();
     let _ = writeln!(
         s,
-        "feasible: {feasible} of {} points ({failed} failed, {} computed but infeasible)",
+        "feasible: {feasible} of {} points ({failed} failed, {} ok but infeasible)",
         rows.len(),
         rows.len() - feasible - failed
     );
