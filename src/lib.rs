@@ -21,6 +21,9 @@
 //! 6. [`output`], [`figures`] and [`plot`]: results as JSON/CSV and SVG under `out/<study>/`.
 //! 7. [`sweep`]: the critical speeds over a grid of one or two study keys (`[sweep]`), in
 //!    parallel, resumable and sharded.
+//! 8. [`trade`]: a study's `[trade]` over its sweep's results: the feasible designs, the best
+//!    one and the Pareto front of critical speed against the objective
+//!    ([`plot::heat_map_svg`] draws two-axis maps with contours).
 //!
 //! [`reference`](mod@reference) holds problems with known answers (closed-form critical speed, the Hopf
 //! normal form) that the tests and benches share.
@@ -54,5 +57,6 @@ pub mod stability;
 pub mod study;
 pub mod sweep;
 pub mod system;
+pub mod trade;
 #[cfg(test)]
 mod testutil;

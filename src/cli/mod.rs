@@ -7,6 +7,7 @@ mod conicity;
 mod ramp;
 mod sweep;
 mod table;
+mod trade;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -84,6 +85,9 @@ pub enum Command {
     Sweep(sweep::SweepArgs),
     /// Join the records files of a sharded sweep into sweep.csv (refuses other studies' files).
     Merge(sweep::MergeArgs),
+    /// The study's `[trade]` over its sweep (`out/<name>/sweep.csv`): the feasible set, the best
+    /// design and the Pareto front of critical speed against the objective (trade.csv, trade.svg).
+    Trade(trade::TradeArgs),
     /// Validate a study and print the resolved plan in SI units.
     Check {
         /// Study file (TOML).

@@ -10,14 +10,24 @@
 //! value × 10⁻³ = data value). Pass data in convenient units (mm, kN) to
 //! avoid the factor altogether.
 
+mod contour;
+mod contour_labels;
 mod geom;
+mod heatmap;
+#[cfg(test)]
+mod heatmap_tests;
 mod overlay;
 mod palette;
 mod panel;
 mod prepare;
 mod scale;
+mod svg;
 #[cfg(test)]
 mod tests;
+mod tradeplot;
+
+pub use heatmap::{heat_map_svg, HeatMap};
+pub use tradeplot::{trade_svg, TradePlot, TradePoint};
 
 use plotters::prelude::{IntoDrawingArea, SVGBackend};
 
@@ -101,6 +111,14 @@ pub enum PlotError {
         title: String,
         /// Name of the series.
         series: String,
+    },
+    /// The input breaks a rule (lengths, finite and increasing axes, ...).
+    #[error("figure \"{title}\": {rule}")]
+    Invalid {
+        /// Title of the figure.
+        title: String,
+        /// The rule broken, with the offending value.
+        rule: String,
     },
     /// The drawing backend failed or the canvas is unusable (too small or too large).
     #[error("plot backend error: {0}")]

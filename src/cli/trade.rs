@@ -1,0 +1,71 @@
+//! `critspeed trade STUDY`: the study's `[trade]` over `out/<name>/sweep.csv`.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, Context};
+
+use super::commands::{load, out_dir, user, write};
+use super::Failure;
+use crate::study::schema::StudyFile;
+use crate::trade::{self, report};
+
+/// Arguments of `critspeed trade`.
+#[derive(Debug, clap::Args)]
+pub struct TradeArgs {
+    /// Study file (TOML) with a `[trade]` section (and the `[sweep]` that produced sweep.csv).
+    pub study: PathBuf,
+    /// Print one JSON object on stdout instead of the summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The `[trade]` table of the study file, validated.
+fn trade_plan(path: &Path) -> Result<trade::TradePlan, Failure> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("reading {}", path.display()))
+        .map_err(user)?;
+    let file: StudyFile = toml::from_str(&text)
+        .with_context(|| format!("study file {} is not valid", path.display()))
+        .map_err(user)?;
+    let table = file.trade.ok_or_else(|| {
+        user(anyhow!(
+            "study {} has no [trade] section (see README, \"Trade studies\")",
+            path.display()
+        ))
+    })?;
+    trade::trade_plan(&table).map_err(user)
+}
+
+/// Runs the trade: reads the sweep's CSV, writes trade.csv and trade.svg, prints the summary.
+pub fn run(a: &TradeArgs, root: &Path) -> Result<(), Failure> {
+    let plan = load(&a.study)?;
+    let tp = trade_plan(&a.study)?;
+    let sweep = root.join(&plan.name).join("sweep.csv");
+    let text = std::fs::read_to_string(&sweep).map_err(|e| {
+        user(anyhow!(
+            "{}: {e}; run `critspeed sweep {}` first",
+            sweep.display(),
+            a.study.display()
+        ))
+    })?;
+    let table = trade::read_sweep(&text, &sweep.display().to_string()).map_err(user)?;
+    let rows = table.rows(&tp).map_err(user)?;
+    let verdicts = trade::assess(&tp, &rows);
+    let dir = out_dir(root, &plan)?;
+    write(
+        &dir,
+        "trade.csv",
+        trade::trade_csv(&table, &verdicts).as_bytes(),
+    )?;
+    let svg = crate::plot::trade_svg(&report::plot(&plan.name, &tp, &rows, &verdicts))
+        .map_err(|e| super::commands::compute(anyhow!(e)))?;
+    write(&dir, "trade.svg", svg.as_bytes())?;
+    if a.json {
+        let j = report::json(&plan.name, &tp, &rows, &verdicts);
+        let s = serde_json::to_string_pretty(&j).map_err(super::commands::compute)?;
+        println!("{s}");
+    } else {
+        print!("{}", report::summary(&plan.name, &tp, &rows, &verdicts));
+    }
+    Ok(())
+}

@@ -1,0 +1,194 @@
+//! Trade studies over a sweep's results: which designs meet the constraints, the best one
+//! for the objective, and the Pareto front of critical speed against the objective axis.
+//!
+//! The study's `[trade]` table is validated once into a [`TradePlan`] (SI units, see
+//! [`plan::trade_plan`]); the sweep's `sweep.csv` is read by column name into [`Row`]s
+//! ([`table::read_sweep`]); [`select::assess`] is a pure function from both to one
+//! [`Assessment`] per row; [`table::trade_csv`] writes the result.
+//!
+//! Definitions (with *V* the Pareto result, by default the first constrained result):
+//! - a point is **feasible** when its sweep status is `ok`, its objective value is present,
+//!   and every constraint's value is present and within its bounds;
+//! - point *a* **dominates** *b* when *a*'s objective is no worse and *a*'s *V* is no lower,
+//!   and one of the two is strictly better. The **Pareto front** is the set of points with
+//!   status `ok` and finite objective and *V* that no such point dominates — constraints are
+//!   not applied to the front, so it shows the whole trade and the constraint line on the
+//!   plot shows which part of it is feasible;
+//! - the **best design** is the feasible point with the lowest (`minimize`) or highest
+//!   (`maximize`) objective; ties (relative difference ≤ 1e-12) go to the higher *V*, then
+//!   to the earlier row.
+
+pub mod plan;
+pub mod report;
+pub mod select;
+pub mod table;
+
+use crate::study::units::Dimension;
+
+pub use plan::trade_plan;
+pub use select::{assess, Assessment};
+pub use table::{read_sweep, trade_csv, Row, SweepTable};
+
+/// A result column of the sweep.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ResultKind {
+    /// the linear (Kalker) critical speed (m/s)
+    KalkerCriticalSpeed,
+    /// the Hopf speed of the study's creep law (m/s)
+    HopfSpeed,
+    /// the nonlinear critical speed: the lowest speed with a hunting cycle (m/s)
+    NonlinearCriticalSpeed,
+}
+
+impl ResultKind {
+    /// All results, in column order.
+    pub const ALL: [ResultKind; 3] = [
+        ResultKind::KalkerCriticalSpeed,
+        ResultKind::HopfSpeed,
+        ResultKind::NonlinearCriticalSpeed,
+    ];
+
+    /// The name used in study files, e.g. `nonlinear_critical_speed`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ResultKind::KalkerCriticalSpeed => "kalker_critical_speed",
+            ResultKind::HopfSpeed => "hopf_speed",
+            ResultKind::NonlinearCriticalSpeed => "nonlinear_critical_speed",
+        }
+    }
+
+    /// The sweep CSV column, with its unit: `nonlinear_critical_speed_m_s`.
+    pub fn column(self) -> String {
+        format!("{}_m_s", self.name())
+    }
+
+    /// Parse a study-file name.
+    pub fn from_name(s: &str) -> Option<ResultKind> {
+        ResultKind::ALL.into_iter().find(|r| r.name() == s)
+    }
+}
+
+/// Whether the objective axis is to be made small or large.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sense {
+    /// lower is better
+    Minimize,
+    /// higher is better
+    Maximize,
+}
+
+/// The objective: one swept study key.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Objective {
+    /// study key, e.g. `suspension.longitudinal_stiffness`
+    pub key: String,
+    /// minimise or maximise
+    pub sense: Sense,
+    /// the key's physical dimension (its SI unit is the CSV's)
+    pub dim: Dimension,
+}
+
+/// What a constraint bounds.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Target {
+    /// a result column (a speed, m/s)
+    Result(ResultKind),
+    /// a swept study key, in the SI unit of its dimension
+    Axis {
+        /// study key
+        key: String,
+        /// its dimension
+        dim: Dimension,
+    },
+}
+
+/// One constraint, bounds in SI units with any factor already applied.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Constraint {
+    /// what is bounded
+    pub target: Target,
+    /// lower bound (SI), inclusive
+    pub at_least: Option<f64>,
+    /// upper bound (SI), inclusive
+    pub at_most: Option<f64>,
+    /// the constraint as written with its SI value, for labels, e.g.
+    /// `nonlinear_critical_speed ≥ 1.1 × 50 m/s = 55 m/s`
+    pub text: String,
+}
+
+/// A validated `[trade]` section.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TradePlan {
+    /// the objective axis
+    pub objective: Objective,
+    /// constraints (all must hold)
+    pub constraints: Vec<Constraint>,
+    /// the result plotted against the objective and used for the Pareto front
+    pub pareto: ResultKind,
+}
+
+/// A problem with the sweep table or its fit to the trade plan.
+#[derive(Debug, thiserror::Error)]
+pub enum TradeError {
+    /// The CSV text is malformed.
+    #[error("{file}, line {line}: {problem}")]
+    Csv {
+        /// file name
+        file: String,
+        /// 1-based line number
+        line: usize,
+        /// what is wrong, with the value
+        problem: String,
+    },
+    /// A column the trade needs is not in the sweep table.
+    #[error("{file} has no column for {what} (looked for {wanted}); its columns are: {columns}")]
+    MissingColumn {
+        /// file name
+        file: String,
+        /// what the column is for, e.g. `the objective suspension.longitudinal_stiffness`
+        what: String,
+        /// the column name or prefix looked for
+        wanted: String,
+        /// the header, comma-separated
+        columns: String,
+    },
+}
+
+/// Swept study keys a trade may name, with their dimensions.
+pub const AXIS_KEYS: [(&str, Dimension); 18] = [
+    ("wheelset.mass", Dimension::Mass),
+    ("wheelset.yaw_inertia", Dimension::Inertia),
+    ("wheelset.axle_load", Dimension::Force),
+    ("wheelset.half_contact_distance", Dimension::Length),
+    ("wheelset.rolling_radius", Dimension::Length),
+    ("suspension.lateral_stiffness", Dimension::Stiffness),
+    ("suspension.longitudinal_stiffness", Dimension::Stiffness),
+    ("suspension.lateral_damping", Dimension::Damping),
+    ("suspension.longitudinal_damping", Dimension::Damping),
+    ("suspension.half_spring_spacing", Dimension::Length),
+    ("contact.conicity", Dimension::Dimensionless),
+    ("contact.rail_head_radius", Dimension::Length),
+    ("contact.crown_offset", Dimension::Length),
+    ("contact.friction", Dimension::Dimensionless),
+    ("contact.young_modulus", Dimension::Pressure),
+    ("contact.shear_modulus", Dimension::Pressure),
+    ("flange.clearance", Dimension::Length),
+    ("flange.stiffness", Dimension::Stiffness),
+];
+
+/// The dimension of a swept study key, if it is one.
+pub fn axis_dimension(key: &str) -> Option<Dimension> {
+    AXIS_KEYS.iter().find(|(k, _)| *k == key).map(|(_, d)| *d)
+}
+
+/// A convenient display unit for a dimension: `(unit, factor)` with display = SI × factor.
+pub fn display_unit(dim: Dimension) -> (&'static str, f64) {
+    match dim {
+        Dimension::Stiffness => ("N/mm", 1e-3),
+        Dimension::Damping => ("N s/mm", 1e-3),
+        Dimension::Length => ("mm", 1e3),
+        Dimension::Pressure => ("GPa", 1e-9),
+        Dimension::Dimensionless => ("-", 1.0),
+        d => (d.si_unit(), 1.0),
+    }
+}
