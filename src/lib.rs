@@ -57,6 +57,6 @@ pub mod stability;
 pub mod study;
 pub mod sweep;
 pub mod system;
-pub mod trade;
 #[cfg(test)]
 mod testutil;
+pub mod trade;

@@ -81,7 +81,10 @@ fn best_is_the_lowest_stiffness_meeting_the_linear_constraint() {
     std::fs::create_dir_all(&out_dir).expect("out dir");
     std::fs::write(out_dir.join("sweep.csv"), csv).expect("sweep.csv");
     let study = kalker_study(&dir);
-    let out = critspeed(&["trade", study.to_str().expect("utf-8")], &dir);
+    let out = critspeed(
+        &["trade", "--from-csv", study.to_str().expect("utf-8")],
+        &dir,
+    );
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),
@@ -141,7 +144,10 @@ fn best_is_the_lowest_stiffness_meeting_the_linear_constraint() {
 fn missing_sweep_and_bad_trade_are_user_errors() {
     let dir = scratch("errors");
     let study = kalker_study(&dir);
-    let out = critspeed(&["trade", study.to_str().expect("utf-8")], &dir);
+    let out = critspeed(
+        &["trade", "--from-csv", study.to_str().expect("utf-8")],
+        &dir,
+    );
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
@@ -159,4 +165,41 @@ fn missing_sweep_and_bad_trade_are_user_errors() {
         err.contains("trade.minimise") && err.contains("unknown key"),
         "{err}"
     );
+}
+
+/// Without `--from-csv`, `trade` runs the sweep itself (here 9 Kalker points): its best design
+/// is the lowest swept stiffness whose V_L, computed independently by the library, meets the
+/// constraint; a second run resumes every point instead of recomputing.
+#[test]
+fn trade_runs_the_sweep_first() {
+    let dir = scratch("runs-sweep");
+    let text = std::fs::read_to_string(kalker_study(&dir)).expect("study");
+    let text = text.replace("count = 25", "count = 9").replace(
+        "compute = [\"kalker\", \"nonlinear\"]",
+        "compute = [\"kalker\"]",
+    );
+    assert!(text.contains("count = 9") && text.contains("compute = [\"kalker\"]"));
+    let study = dir.join("quick.toml");
+    std::fs::write(&study, &text).expect("write study");
+    let args = ["trade", study.to_str().expect("utf-8")];
+    let out = critspeed(&args, &dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let ks: Vec<f64> = (0..9).map(|i| 1e5 * 30f64.powf(i as f64 / 8.0)).collect();
+    let best = ks
+        .iter()
+        .position(|&k| linear_speed(&text, k).is_some_and(|v| v >= 1.1 * LINE_SPEED))
+        .expect("some stiffness is fast enough");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains(&format!("best: point {best}:")), "{stdout}");
+    let again = critspeed(&args, &dir);
+    let err = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        again.status.success() && err.contains("resuming: 9 of 9"),
+        "{err}"
+    );
+    assert_eq!(again.stdout, out.stdout);
 }

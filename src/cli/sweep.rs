@@ -79,6 +79,18 @@ fn progress_line(p: &Progress) -> String {
 
 /// Runs `critspeed sweep`.
 pub fn run(args: &SweepArgs, root: &Path) -> Result<(), Failure> {
+    if let Some((study, rows)) = compute_points(args, root)? {
+        print!("{}", summary(&study, &rows));
+    }
+    Ok(())
+}
+
+/// Runs (or resumes) the sweep; for the whole grid also writes sweep.csv and the figures and
+/// returns the rows (`None` for a shard, whose records wait for `critspeed merge`).
+pub(super) fn compute_points(
+    args: &SweepArgs,
+    root: &Path,
+) -> Result<Option<(SweepStudy, Vec<PointRecord>)>, Failure> {
     let study = SweepStudy::load(&args.study).map_err(failure)?;
     let shard = match (&args.shard, args.shard_from_env) {
         (Some(s), _) => Shard::parse(s).map_err(failure)?,
@@ -151,11 +163,10 @@ pub fn run(args: &SweepArgs, root: &Path) -> Result<(), Failure> {
             shard.count,
             args.study.display()
         );
-        return Ok(());
+        return Ok(None);
     }
     finish(&study, &dir, &res.rows)?;
-    print!("{}", summary(&study, &res.rows));
-    Ok(())
+    Ok(Some((study, res.rows)))
 }
 
 /// Writes sweep.csv and the figures.

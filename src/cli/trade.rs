@@ -17,6 +17,13 @@ pub struct TradeArgs {
     /// Print one JSON object on stdout instead of the summary.
     #[arg(long)]
     pub json: bool,
+    /// Use the existing `OUT/<name>/sweep.csv` (e.g. written by `critspeed merge` from shards)
+    /// instead of running or resuming the sweep first.
+    #[arg(long)]
+    pub from_csv: bool,
+    /// Worker threads of the sweep (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
 }
 
 /// The `[trade]` table of the study file, validated.
@@ -40,10 +47,20 @@ fn trade_plan(path: &Path) -> Result<trade::TradePlan, Failure> {
 pub fn run(a: &TradeArgs, root: &Path) -> Result<(), Failure> {
     let plan = load(&a.study)?;
     let tp = trade_plan(&a.study)?;
+    if !a.from_csv {
+        // Runs the sweep, or resumes it: points already in its records file are not recomputed.
+        let args = super::sweep::SweepArgs {
+            study: a.study.clone(),
+            threads: a.threads,
+            shard: None,
+            shard_from_env: false,
+        };
+        super::sweep::compute_points(&args, root)?;
+    }
     let sweep = root.join(&plan.name).join("sweep.csv");
     let text = std::fs::read_to_string(&sweep).map_err(|e| {
         user(anyhow!(
-            "{}: {e}; run `critspeed sweep {}` first",
+            "{}: {e}; run `critspeed sweep {}` (or `critspeed merge` for shards) first, or drop --from-csv",
             sweep.display(),
             a.study.display()
         ))

@@ -5,46 +5,12 @@ use super::{figure, line};
 use crate::plot::{render_svg, Marker, PlotError, Series, Style};
 use crate::sweep::{PointRecord, SweepSpec};
 
-/// The data of a heat map over two axes (the same fields as the heat-map plot's input).
-#[derive(Clone, Debug, PartialEq)]
-pub struct HeatMap {
-    /// title
-    pub title: String,
-    /// x-axis title with unit
-    pub x_label: String,
-    /// y-axis title with unit
-    pub y_label: String,
-    /// x grid values
-    pub x: Vec<f64>,
-    /// y grid values
-    pub y: Vec<f64>,
-    /// x values log-spaced
-    pub x_log: bool,
-    /// y values log-spaced
-    pub y_log: bool,
-    /// `z[j*nx+i]` at `(x[i], y[j])`; `None` = failed or not computed
-    pub z: Vec<Option<f64>>,
-    /// colour-bar title with unit
-    pub z_label: String,
-    /// contour level drawn as a boundary, with its label (e.g. the operating speed)
-    pub threshold: Option<(f64, String)>,
-}
+pub use crate::plot::HeatMap;
 
-/// Placeholder map: the grid points coloured by value, failed points grey.
+/// The map of one result over two axes: cells coloured by value, labelled contours, the
+/// operating-speed boundary; failed points hatched, never interpolated over.
 pub fn sweep_map(h: &HeatMap) -> Result<String, PlotError> {
-    let nx = h.x.len();
-    let mut f = figure(&h.title, &h.x_label, &h.y_label);
-    let points = (0..h.z.len()).map(|k| (h.x[k % nx], h.y[k / nx])).collect();
-    let values = h.z.iter().map(|z| z.unwrap_or(f64::NAN)).collect();
-    f.series.push(Series {
-        name: "grid point (grey: failed)".into(),
-        points,
-        style: Style::PointsColoured {
-            values,
-            label: h.z_label.clone(),
-        },
-    });
-    render_svg(&f, 900, 700)
+    crate::plot::heat_map_svg(h)
 }
 
 /// The results a sweep can compute: (name in file names, legend, value of a point).
@@ -87,10 +53,25 @@ pub fn sweep(
             *slot = Some(r);
         }
     }
-    let threshold = spec
-        .operating_speed
-        .map(|v| (v, format!("operating speed {v:.2} m/s")));
-    if let [a] = spec.axes.as_slice() {
+    let threshold = spec.operating_speed.map(|v| {
+        (
+            v,
+            format!(
+                "operating speed {v:.2} m/s ({:.0} km/h): stable above, hunts below",
+                v * 3.6
+            ),
+        )
+    });
+    // An axis with one value does not span a map: plot against the other one. The point ids
+    // then run along the varying axis in order, so the line plot below applies unchanged.
+    let varying: Vec<_> = spec.axes.iter().filter(|a| a.values.len() > 1).collect();
+    let line_axis = match (spec.axes.as_slice(), varying.as_slice()) {
+        ([a], _) => Some(a),
+        (_, [a]) => Some(*a),
+        (_, []) => spec.axes.first(),
+        _ => None,
+    };
+    if let Some(a) = line_axis {
         let mut f = figure(
             &format!("{study}: critical speeds against {}", a.key),
             &a.label(),
