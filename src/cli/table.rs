@@ -168,12 +168,12 @@ pub fn plan(p: &Plan) -> String {
         "suspension.half_spring_spacing",
         format!("{} m", u.half_spring_spacing),
     );
-    match c.geometry {
-        Geometry::Cone { conicity } => {
+    match &c.geometry {
+        &Geometry::Cone { conicity } => {
             line("contact.geometry", "cone".into());
             line("contact.conicity", format!("{conicity}"));
         }
-        Geometry::ConeOnArc {
+        &Geometry::ConeOnArc {
             conicity,
             rail_head_radius,
             crown_offset,
@@ -182,6 +182,12 @@ pub fn plan(p: &Plan) -> String {
             line("contact.conicity", format!("{conicity}"));
             line("contact.rail_head_radius", format!("{rail_head_radius} m"));
             line("contact.crown_offset", format!("{crown_offset} m"));
+        }
+        Geometry::Profiles { pair, smoothing } => {
+            line("contact.geometry", "profiles".into());
+            line("contact.wheel_profile", pair.files.0.clone());
+            line("contact.rail_profile", pair.files.1.clone());
+            line("contact.profile_smoothing", format!("{smoothing} m"));
         }
     }
     match c.creep_law {

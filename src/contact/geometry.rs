@@ -15,7 +15,11 @@
 //!   tangency on each side). The slopes with respect to `y` are obtained exactly by the
 //!   implicit function theorem, `du/dy = −F_u⁻¹ F_y`, with `F_u` and `F_y` from dual numbers.
 
+use std::sync::Arc;
+
 use nalgebra::{Matrix4, Vector4};
+
+use super::rigid::ProfilePair;
 
 use crate::system::scalar::{Dual, Scalar};
 
@@ -35,6 +39,14 @@ pub enum Geometry {
         rail_head_radius: f64,
         /// lateral offset of the rail crown outside the nominal contact point (m)
         crown_offset: f64,
+    },
+    /// Two arbitrary profiles (wheel and rail point lists) in rigid contact (MODEL §3,
+    /// method 2); see [`crate::contact::rigid`].
+    Profiles {
+        /// the placed profile pair
+        pair: Arc<ProfilePair>,
+        /// half-width of the local-regression smoothing of the tabulated functions (m); 0: none
+        smoothing: f64,
     },
 }
 
@@ -68,6 +80,13 @@ pub enum GeometryError {
         offset_m: f64,
         radius_m: f64,
     },
+    /// The contact point left the running part of the wheel profile.
+    #[error("at y = {y_m:.6e} m the wheel contact point u = {offset_m:.6e} m leaves the wheel profile's running part [{:.6e}, {:.6e}] m", .range_m.0, .range_m.1)]
+    OffProfile {
+        y_m: f64,
+        offset_m: f64,
+        range_m: (f64, f64),
+    },
     /// The Jacobian of the contact equations is singular.
     #[error("rigid contact equations are singular at y = {y_m:.6e} m")]
     Singular { y_m: f64 },
@@ -83,17 +102,18 @@ pub struct Nominal {
 }
 
 impl Geometry {
-    /// The cone slope λ.
+    /// The cone slope λ (NaN for profiles, which have no single slope).
     pub fn conicity(&self) -> f64 {
         match *self {
             Geometry::Cone { conicity } | Geometry::ConeOnArc { conicity, .. } => conicity,
+            Geometry::Profiles { .. } => f64::NAN,
         }
     }
 
     /// Transverse curvature of the rail head at the contact (1/m); 0 for a knife edge.
     pub fn rail_transverse_curvature(&self) -> Option<f64> {
         match *self {
-            Geometry::Cone { .. } => None,
+            Geometry::Cone { .. } | Geometry::Profiles { .. } => None,
             Geometry::ConeOnArc {
                 rail_head_radius, ..
             } => Some(1.0 / rail_head_radius),
@@ -109,9 +129,10 @@ impl Geometry {
         guess: Option<[f64; 4]>,
     ) -> Result<(ContactPoint<Dual<1>>, [f64; 4]), GeometryError> {
         let yd = Dual::<1>::var(y, 0);
-        match *self {
-            Geometry::Cone { conicity } => Ok((cone(conicity, nominal, yd), [0.0; 4])),
-            Geometry::ConeOnArc {
+        match self {
+            Geometry::Profiles { pair, .. } => pair.solve(nominal, y, guess),
+            &Geometry::Cone { conicity } => Ok((cone(conicity, nominal, yd), [0.0; 4])),
+            &Geometry::ConeOnArc {
                 conicity,
                 rail_head_radius,
                 crown_offset,

@@ -4,4 +4,8 @@ pub mod creep;
 pub mod geometry;
 pub mod hertz;
 pub mod kalker;
+pub mod profile;
+mod profile_table;
+pub mod rigid;
+pub mod spline;
 pub mod table;

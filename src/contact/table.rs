@@ -100,6 +100,23 @@ pub struct ContactTable {
     value: Vec<[f64; COLUMNS]>,
     slope: Vec<[f64; COLUMNS]>,
     has_patch: bool,
+    /// raw wheel contact offset at each node (m), NaN when not tracked
+    offsets: Vec<f64>,
+    /// contact-point jumps found while tabulating
+    jumps: Vec<Jump>,
+    /// nodes (y, m) where the lateral curvature B was held inside Kalker's a/b range
+    pub clamped: Vec<f64>,
+}
+
+/// A discontinuity of the right wheel's contact point between two table nodes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Jump {
+    /// the two nodes' lateral displacements (m)
+    pub y_m: (f64, f64),
+    /// the wheel contact point's outward offset from the taping line at each (m)
+    pub wheel_offset_m: (f64, f64),
+    /// the rolling radius at each (m)
+    pub radius_m: (f64, f64),
 }
 
 /// Where `y` falls in the table, with the Hermite weights.
@@ -123,6 +140,13 @@ pub struct WheelState<T> {
 impl ContactTable {
     /// Samples `geometry` on the grid of `spec`.
     pub fn build(geometry: &Geometry, spec: &TableSpec) -> Result<Self, TableError> {
+        if let Geometry::Profiles { pair, smoothing } = geometry {
+            return super::profile_table::build(pair, *smoothing, spec);
+        }
+        let lateral = spec
+            .rail_head_radius
+            .or_else(|| geometry.rail_transverse_curvature().map(|k| 1.0 / k))
+            .map(|r| Dual::cst(1.0 / r));
         let n = spec.nodes.max(5) | 1;
         let half = (n - 1) / 2;
         let h = spec.half_width / half as f64;
@@ -136,7 +160,7 @@ impl ContactTable {
                 let y = dir * k as f64 * h;
                 let (point, u) = geometry.solve(spec.nominal, y, guess)?;
                 guess = Some(u);
-                let cols = node_columns(point, geometry, spec, y)?;
+                let cols = node_columns(point, lateral, spec, y)?;
                 has_patch = cols.1;
                 let idx = (half as isize + dir as isize * k as isize) as usize;
                 for (c, d) in cols.0.iter().enumerate() {
@@ -151,7 +175,45 @@ impl ContactTable {
             value,
             slope,
             has_patch,
+            offsets: vec![f64::NAN; n],
+            jumps: Vec::new(),
+            clamped: Vec::new(),
         })
+    }
+
+    /// Assembles a table from node states (uniform grid from `y0` with step `h`): the
+    /// geometry as duals (value, d/dy) and the lateral relative curvature B (1/m).
+    pub(crate) fn assemble(
+        spec: &TableSpec,
+        (y0, h): (f64, f64),
+        nodes: &[(ContactPoint<Dual<1>>, Dual<1>)],
+        offsets: Vec<f64>,
+        jumps: Vec<Jump>,
+    ) -> Result<Self, TableError> {
+        let mut value = Vec::with_capacity(nodes.len());
+        let mut slope = Vec::with_capacity(nodes.len());
+        let mut has_patch = false;
+        for (k, &(p, b)) in nodes.iter().enumerate() {
+            let (cols, patch) = node_columns(p, Some(b), spec, y0 + k as f64 * h)?;
+            has_patch = patch;
+            value.push(cols.map(|d| d.re));
+            slope.push(cols.map(|d| d.eps[0]));
+        }
+        Ok(Self {
+            y0,
+            h,
+            value,
+            slope,
+            has_patch,
+            offsets,
+            jumps,
+            clamped: Vec::new(),
+        })
+    }
+
+    /// Contact-point jumps found while tabulating (profiles only).
+    pub fn jumps(&self) -> &[Jump] {
+        &self.jumps
     }
 
     /// The tabulated half-width (m).
@@ -175,7 +237,7 @@ impl ContactTable {
                         radius: v[RADIUS],
                         angle: v[ANGLE],
                         roll: v[ROLL],
-                        wheel_offset: f64::NAN,
+                        wheel_offset: self.offsets[k],
                     },
                     semi_axes: self.has_patch.then_some((v[SEMI_A], v[SEMI_B])),
                     creep: CreepCoefficients {
@@ -282,25 +344,23 @@ impl ContactTable {
 }
 
 /// The table columns at one node, as one-direction duals (value and d/dy).
+/// `lateral` is B (1/m): 1/R_rail for a cone (straight transversally), or the profiles'
+/// κ_wheel + κ_rail; `None`: no Hertz patch.
 fn node_columns(
     p: ContactPoint<Dual<1>>,
-    geometry: &Geometry,
+    lateral: Option<Dual<1>>,
     spec: &TableSpec,
     y: f64,
 ) -> Result<([Dual<1>; COLUMNS], bool), TableError> {
     let zero = Dual::cst(0.0);
-    let patch = match spec
-        .rail_head_radius
-        .or_else(|| geometry.rail_transverse_curvature().map(|k| 1.0 / k))
-    {
-        Some(rail_radius) => {
-            // MODEL §4: N = (W/2)/cos δ, A = 1/r (rolling), B = 1/R_rail (the cone is straight
-            // transversally).
+    let patch = match lateral {
+        Some(lateral) => {
+            // MODEL §4: N = (W/2)/cos δ, A = 1/r (rolling), B as given.
             let normal = p.angle.cos().recip() * (spec.axle_load / 2.0);
             let patch = hertz_patch(
                 normal,
                 p.radius.recip(),
-                Dual::cst(1.0 / rail_radius),
+                lateral,
                 spec.elastic.young_modulus,
                 spec.elastic.poisson_ratio,
             )

@@ -3,6 +3,7 @@
 //! The plan is entirely SI; nothing after it sees strings or millimetres. See README.md for
 //! the file format; [`DEFAULT_STUDY`] is the seed study embedded in the binary.
 
+mod profiles;
 pub mod schema;
 pub mod units;
 
@@ -46,6 +47,11 @@ pub enum StudyError {
     },
     #[error("{key} is missing: {why}")]
     Missing { key: String, why: String },
+    #[error("{key}: {source}")]
+    Profile {
+        key: String,
+        source: crate::contact::profile::ProfileError,
+    },
     #[error("{key} = {value:?} is not one of {allowed}")]
     Choice {
         key: String,
@@ -113,7 +119,8 @@ pub fn parse(text: &str, origin: &str) -> Result<Plan, StudyError> {
         path: origin.to_string(),
         message: e.to_string(),
     })?;
-    plan(file)
+    let base = Path::new(origin).parent().unwrap_or(Path::new(""));
+    plan(file, base)
 }
 
 fn quantity(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
@@ -199,7 +206,7 @@ fn conicity(q: &Quantity) -> Result<f64, StudyError> {
     }
 }
 
-fn plan(f: StudyFile) -> Result<Plan, StudyError> {
+fn plan(f: StudyFile, base: &Path) -> Result<Plan, StudyError> {
     if f.name.is_empty()
         || !f
             .name
@@ -264,7 +271,7 @@ fn plan(f: StudyFile) -> Result<Plan, StudyError> {
         }),
         None => None,
     };
-    let contact = contact_plan(&f.contact, &wheelset, flange.as_ref())?;
+    let contact = contact_plan(&f.contact, &wheelset, flange.as_ref(), base)?;
     let (linear, spectrum_points) = linear_plan(f.linear.as_ref())?;
     let bifurcation = f
         .bifurcation
@@ -337,16 +344,27 @@ fn contact_plan(
     c: &schema::ContactSection,
     w: &WheelsetParams,
     flange: Option<&Flange>,
+    base: &Path,
 ) -> Result<ContactPlan, StudyError> {
-    let lambda = conicity(&c.conicity)?;
+    let lambda = || match &c.conicity {
+        Some(q) => conicity(q),
+        None => Err(StudyError::Missing {
+            key: "contact.conicity".into(),
+            why: format!("geometry {:?} needs the cone slope", c.geometry),
+        }),
+    };
     let rail_head_radius = c
         .rail_head_radius
         .as_ref()
         .map(|q| positive("contact.rail_head_radius", q, Dimension::Length))
         .transpose()?;
     let geometry = match c.geometry.as_str() {
-        "cone" => Geometry::Cone { conicity: lambda },
+        "cone" => Geometry::Cone {
+            conicity: lambda()?,
+        },
+        "profiles" => profiles::geometry(c, base, rail_head_radius.is_some())?,
         "cone-on-arc" => {
+            let lambda = lambda()?;
             let radius = rail_head_radius.ok_or_else(|| StudyError::Missing {
                 key: "contact.rail_head_radius".into(),
                 why: "geometry \"cone-on-arc\" needs the rail head radius".into(),
@@ -374,7 +392,7 @@ fn contact_plan(
             return Err(StudyError::Choice {
                 key: "contact.geometry".into(),
                 value: other.into(),
-                allowed: "\"cone\", \"cone-on-arc\"",
+                allowed: "\"cone\", \"cone-on-arc\", \"profiles\"",
             })
         }
     };
@@ -433,7 +451,7 @@ fn contact_plan(
                 Dimension::ForceArea,
             )?,
         }),
-        None if rail_head_radius.is_some() => CreepSource::Hertz,
+        None if rail_head_radius.is_some() || c.geometry == "profiles" => CreepSource::Hertz,
         None => {
             return Err(StudyError::Missing {
                 key: "contact.creep_coefficients".into(),
