@@ -124,7 +124,33 @@ pub fn geometry(g: &GeometryReport) -> String {
             c.creep.f11, c.creep.f22, c.creep.f23, c.creep.f33
         );
     }
+    geometry_events(&mut s, g);
     s
+}
+
+/// Contact-point jumps and Kalker-range clamps of a profile geometry.
+fn geometry_events(s: &mut String, g: &GeometryReport) {
+    for j in &g.jumps {
+        let _ = writeln!(
+            s,
+            "  contact jump between y = {:.4} and {:.4} mm: wheel point {:.3} -> {:.3} mm, r_R {:.4} -> {:.4} mm",
+            j.y_m.0 * 1e3,
+            j.y_m.1 * 1e3,
+            j.wheel_offset_m.0 * 1e3,
+            j.wheel_offset_m.1 * 1e3,
+            j.radius_m.0 * 1e3,
+            j.radius_m.1 * 1e3
+        );
+    }
+    if let (Some(a), Some(b)) = (g.clamped.first(), g.clamped.last()) {
+        let _ = writeln!(
+            s,
+            "  lateral curvature held inside Kalker's a/b range [0.1, 10] at {} nodes (y from {:.4} to {:.4} mm)",
+            g.clamped.len(),
+            a * 1e3,
+            b * 1e3
+        );
+    }
 }
 
 /// The resolved plan in SI.

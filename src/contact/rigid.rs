@@ -309,8 +309,7 @@ fn rail_spline(p: &Points, t: Track) -> Result<(Spline, f64), ProfileError> {
     for k in (1..=top).rev() {
         let (z1, z0) = (p.z_down[k], p.z_down[k - 1]);
         if z1 <= target && z0 >= target {
-            let f = (target - z1) / (z0 - z1).max(f64::MIN_POSITIVE);
-            gauge_u = Some(p.u[k] + f * (p.u[k - 1] - p.u[k]));
+            gauge_u = Some(gauge_crossing(p, k, target));
             break;
         }
     }
@@ -328,4 +327,32 @@ fn rail_spline(p: &Points, t: Track) -> Result<(Spline, f64), ProfileError> {
     let v: Vec<f64> = p.u[lo..=hi].iter().map(|u| u - gauge_u).collect();
     let h: Vec<f64> = p.z_down[lo..=hi].iter().map(|z| z_top - z).collect();
     Ok((Spline::natural(&v, &h), 0.5 * t.gauge))
+}
+
+/// The lateral position where the profile between points k−1 and k reaches depth `target`:
+/// cubic Lagrange interpolation of u as a function of z through the four points around the
+/// crossing (the gauge face is steep, so u(z) is the well-conditioned direction), falling
+/// back to the chord where z is not monotonic over those points.
+fn gauge_crossing(p: &Points, k: usize, target: f64) -> f64 {
+    let (z1, z0) = (p.z_down[k], p.z_down[k - 1]);
+    let chord = p.u[k] + (target - z1) / (z0 - z1).max(f64::MIN_POSITIVE) * (p.u[k - 1] - p.u[k]);
+    if k < 2 || k + 1 >= p.u.len() {
+        return chord;
+    }
+    let idx = [k - 2, k - 1, k, k + 1];
+    let z: Vec<f64> = idx.iter().map(|&i| p.z_down[i]).collect();
+    if !z.windows(2).all(|w| w[1] < w[0]) {
+        return chord;
+    }
+    let mut u = 0.0;
+    for (a, &ia) in idx.iter().enumerate() {
+        let mut l = 1.0;
+        for (b, _) in idx.iter().enumerate() {
+            if a != b {
+                l *= (target - z[b]) / (z[a] - z[b]);
+            }
+        }
+        u += l * p.u[ia];
+    }
+    u
 }
