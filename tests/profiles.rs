@@ -66,8 +66,18 @@ fn left_and_right_are_mirror_images() {
     for y in [0.7e-3, 3e-3, 5.5e-3, 8e-3] {
         let a = solve_to(&p, y);
         let b = solve_to(&p, -y);
-        assert!((a[1] + b[1]).abs() < 1e-12, "roll at {y}: {} {}", a[1], b[1]);
-        assert!((a[3] - b[2]).abs() < 1e-9, "u_L({y}) = {} vs u_R(-y) = {}", a[3], b[2]);
+        assert!(
+            (a[1] + b[1]).abs() < 1e-12,
+            "roll at {y}: {} {}",
+            a[1],
+            b[1]
+        );
+        assert!(
+            (a[3] - b[2]).abs() < 1e-9,
+            "u_L({y}) = {} vs u_R(-y) = {}",
+            a[3],
+            b[2]
+        );
         assert!((a[0] - b[0]).abs() < 1e-12, "height at ±{y}");
     }
 }
@@ -126,7 +136,10 @@ fn solution_touches_without_penetration() {
         let x = solve_to(&p, y);
         let g = brute_force_gaps(x, y);
         for gap in g {
-            assert!(gap > -2e-6 && gap < 6e-6, "y = {y}: brute-force minimum gap {gap:e} m");
+            assert!(
+                gap > -2e-6 && gap < 6e-6,
+                "y = {y}: brute-force minimum gap {gap:e} m"
+            );
         }
     }
 }
@@ -147,7 +160,10 @@ fn cone_on_arc_profiles_reproduce_the_cone_on_arc_geometry() {
     let mut rail = String::from("# test arc\ny_m,z_m\n");
     for k in -120..=120 {
         let v = k as f64 * 2.5e-4;
-        rail.push_str(&format!("{v},{}\n", radius - (radius * radius - v * v).sqrt()));
+        rail.push_str(&format!(
+            "{v},{}\n",
+            radius - (radius * radius - v * v).sqrt()
+        ));
     }
     let o = Orientation::default();
     let w = profile::parse(&wheel, "cone", o).expect("cone points");
@@ -172,11 +188,24 @@ fn cone_on_arc_profiles_reproduce_the_cone_on_arc_geometry() {
         let (a, x1) = pair.solve(NOMINAL, y, g1).expect("profiles");
         let (b, x2) = arc.solve(NOMINAL, y, g2).expect("arc");
         (g1, g2) = (Some(x1), Some(x2));
-        assert!((a.radius.re - b.radius.re).abs() < 1e-10, "r at {y}: {} {} u {:?} {:?}", a.radius.re, b.radius.re, x1, x2);
+        assert!(
+            (a.radius.re - b.radius.re).abs() < 1e-10,
+            "r at {y}: {} {} u {:?} {:?}",
+            a.radius.re,
+            b.radius.re,
+            x1,
+            x2
+        );
         assert!((a.angle.re - b.angle.re).abs() < 1e-8, "δ at {y}");
         assert!((a.roll.re - b.roll.re).abs() < 1e-10, "φ at {y}");
-        assert!((a.radius.eps[0] - b.radius.eps[0]).abs() < 1e-6, "dr/dy at {y}");
-        assert!((a.angle.eps[0] - b.angle.eps[0]).abs() < 1e-4, "dδ/dy at {y}");
+        assert!(
+            (a.radius.eps[0] - b.radius.eps[0]).abs() < 1e-6,
+            "dr/dy at {y}"
+        );
+        assert!(
+            (a.angle.eps[0] - b.angle.eps[0]).abs() < 1e-4,
+            "dδ/dy at {y}"
+        );
     }
 }
 
@@ -203,13 +232,22 @@ fn line_profile(header: &str, scale: f64, swap_at: Option<usize>) -> String {
 fn malformed_profiles_name_the_file_and_line() {
     // non-monotonic lateral coordinate on the 13th point: line 2 + 13 = 15
     let e = parse_err(&line_profile("y_mm,z_mm", 1.0, Some(12)));
-    assert!(e.starts_with("bad.csv:15:") && e.contains("monotonic"), "{e}");
+    assert!(
+        e.starts_with("bad.csv:15:") && e.contains("monotonic"),
+        "{e}"
+    );
     // a profile 0.078 wide in "mm" (a file in metres with the wrong header): header line 2
     let e = parse_err(&line_profile("y_mm,z_mm", 1e-3, None));
-    assert!(e.starts_with("bad.csv:2:") && e.contains("implausible"), "{e}");
+    assert!(
+        e.starts_with("bad.csv:2:") && e.contains("implausible"),
+        "{e}"
+    );
     // gap larger than 5 mm between points
     let e = parse_err(&line_profile("y_mm,z_mm", 3.0, None));
-    assert!(e.starts_with("bad.csv:4:") && e.contains("at most 5 mm"), "{e}");
+    assert!(
+        e.starts_with("bad.csv:4:") && e.contains("at most 5 mm"),
+        "{e}"
+    );
     // unknown header
     let e = parse_err("y,z\n1,2\n");
     assert!(e.starts_with("bad.csv:1:") && e.contains("header"), "{e}");

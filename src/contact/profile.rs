@@ -111,13 +111,15 @@ pub fn parse(text: &str, file: &str, o: Orientation) -> Result<Points, ProfileEr
                 match (h.first().map(String::as_str), h.get(1).map(String::as_str)) {
                     (Some("y_mm"), Some("z_mm")) if h.len() == 2 => 1e-3,
                     (Some("y_m"), Some("z_m")) if h.len() == 2 => 1.0,
-                    _ => return Err(line_err(
-                        file,
-                        line,
-                        format!(
+                    _ => {
+                        return Err(line_err(
+                            file,
+                            line,
+                            format!(
                             "header {l:?} must be `y_mm,z_mm` or `y_m,z_m` (it states the unit)"
                         ),
-                    )),
+                        ))
+                    }
                 },
             );
             header_line = line;
