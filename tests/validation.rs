@@ -15,6 +15,9 @@ use critspeed::reference::{
 use critspeed::stability::{critical_speeds, LinearOptions, LinearSystem};
 use critspeed::study;
 
+#[path = "validation/profiles.rs"]
+mod profiles_section;
+
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -240,7 +243,8 @@ fn report() -> String {
     closed_form_section(&mut s);
     en15302_section(&mut s);
     dtu_section(&mut s);
-    s.push_str("## 5. Not yet compared\n\nA published wheelset or bogie stability result with its linear and nonlinear critical speeds (Knudsen, Feldberg & True 1991; Cooperrider's bogie as used by Kaas-Petersen and True), and a published S1002/UIC60 geometry table against the profile solver: both need real profiles (issue 5).\n");
+    s.push_str("## 5. Not yet compared\n\nA published wheelset or bogie stability result with its linear and nonlinear critical speeds (Knudsen, Feldberg & True 1991; Cooperrider's bogie as used by Kaas-Petersen and True).\n\n");
+    profiles_section::section(&mut s);
     s
 }
 

@@ -25,6 +25,12 @@ use crate::system::scalar::{Dual, Scalar};
 
 /// Wheel sampling step of the global gap scan (m).
 pub const SCAN_STEP: f64 = 2.5e-4;
+/// Lateral step of the central differences where Newton cannot polish (m).
+const FD_STEP: f64 = 1e-5;
+/// Iterations of the bracket growth and of the regula falsi on φ.
+const MAX_BRACKET: usize = 100;
+/// Newton iterations of the polish.
+const MAX_NEWTON: usize = 40;
 
 /// Placement of the rail profiles.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -140,7 +146,11 @@ impl ProfilePair {
         guess: Option<[f64; 4]>,
     ) -> Result<(ContactPoint<Dual<1>>, [f64; 4]), GeometryError> {
         let x = self.coarse(n, y, guess.map_or(0.0, |g| g[1]))?;
-        let x = self.polish(n, y, x)?;
+        let x = match self.polish(n, y, x) {
+            Ok(x) => x,
+            Err(GeometryError::NoConvergence { .. }) => return self.fallback(n, y, x),
+            Err(e) => return Err(e),
+        };
         self.check_inside(y, &x)?;
         let (jac, _) = self.jacobian(n, x, y);
         let xd: [Dual<1>; 4] = std::array::from_fn(|k| Dual::cst(x[k]));
@@ -155,6 +165,33 @@ impl ProfilePair {
             eps: [dx[k]],
         };
         Ok((self.point(n, d(1), d(2), Dual::var(y, 0)), x))
+    }
+
+    /// Where Newton on the tangency conditions cannot converge (the minimum gap sits on a
+    /// corner of a profile, where no common tangent exists), the scanned minimum is kept and
+    /// the slopes are central differences of the scan-based solve over ±[`FD_STEP`].
+    fn fallback(
+        &self,
+        n: Nominal,
+        y: f64,
+        x: [f64; 4],
+    ) -> Result<(ContactPoint<Dual<1>>, [f64; 4]), GeometryError> {
+        self.check_inside(y, &x)?;
+        let xp = self.coarse(n, y + FD_STEP, x[1])?;
+        let xm = self.coarse(n, y - FD_STEP, x[1])?;
+        let at = |x: [f64; 4], y: f64| self.point(n, x[1], x[2], y);
+        let (p, pp, pm) = (at(x, y), at(xp, y + FD_STEP), at(xm, y - FD_STEP));
+        let d = |v: f64, a: f64, b: f64| Dual {
+            re: v,
+            eps: [(a - b) / (2.0 * FD_STEP)],
+        };
+        let point = ContactPoint {
+            radius: d(p.radius, pp.radius, pm.radius),
+            angle: d(p.angle, pp.angle, pm.angle),
+            roll: d(p.roll, pp.roll, pm.roll),
+            wheel_offset: d(p.wheel_offset, pp.wheel_offset, pm.wheel_offset),
+        };
+        Ok((point, x))
     }
 
     /// The right wheel's contact point.
@@ -186,32 +223,55 @@ impl ProfilePair {
         k(drho, d2rho) + k(dh, d2h)
     }
 
-    /// Steps 1–2: secant on φ until the two minimum gaps are equal.
+    /// Steps 1–2: φ such that the two minimum gaps are equal. F(φ) = D_R − D_L increases
+    /// with φ (about 2 l0), so a bracket is grown from the guess and closed by the Illinois
+    /// variant of regula falsi (robust where F is only piecewise smooth: contact jumps).
     fn coarse(&self, n: Nominal, y: f64, phi0: f64) -> Result<[f64; 4], GeometryError> {
         let f = |phi: f64| {
             let (gr, ur) = self.min_gap(n, 1.0, phi, y);
             let (gl, ul) = self.min_gap(n, -1.0, phi, y);
-            (gr - gl, gr, ur, ul)
+            (gr - gl, [-gr, phi, ur, ul])
         };
-        let (mut p0, mut p1) = (phi0, phi0 + 1e-5);
-        let (mut f0, mut last) = (f(p0).0, f(p1));
-        for _ in 0..40 {
-            if !last.0.is_finite() || !f0.is_finite() {
-                break;
-            }
-            // the parabolic minima are accurate to ~1e-10 m; Newton polishes afterwards
-            if last.0.abs() < 1e-10 || last.0 == f0 {
-                return Ok([-last.1, p1, last.2, last.3]);
-            }
-            let p2 = p1 - last.0 * (p1 - p0) / (last.0 - f0);
-            (p0, f0, p1) = (p1, last.0, p2);
-            last = f(p1);
-        }
-        Err(GeometryError::NoConvergence {
+        let fail = |residual: f64| GeometryError::NoConvergence {
             y_m: y,
-            residual: last.0,
-            iterations: 40,
-        })
+            residual,
+            iterations: MAX_BRACKET,
+        };
+        let (mut a, (mut fa, xa)) = (phi0, f(phi0));
+        if !fa.is_finite() {
+            return Err(fail(fa));
+        }
+        // the parabolic minima are accurate to ~1e-10 m; Newton polishes afterwards
+        if fa.abs() < 1e-10 {
+            return Ok(xa);
+        }
+        let mut delta = -fa / (2.0 * n.half_contact_distance);
+        let (mut b, (mut fb, mut xb)) = (a + delta, f(a + delta));
+        let mut k = 0;
+        while fa * fb > 0.0 {
+            k += 1;
+            if k > MAX_BRACKET || !fb.is_finite() {
+                return Err(fail(fb));
+            }
+            (a, fa) = (b, fb);
+            delta *= 2.0;
+            b = a + delta;
+            (fb, xb) = f(b);
+        }
+        for _ in 0..MAX_BRACKET {
+            if fb.abs() < 1e-10 || (b - a).abs() < 1e-14 {
+                return Ok(xb);
+            }
+            let c = b - fb * (b - a) / (fb - fa);
+            let (fc, xc) = f(c);
+            if fc * fb < 0.0 {
+                (a, fa) = (b, fb);
+            } else {
+                fa *= 0.5;
+            }
+            (b, fb, xb) = (c, fc, xc);
+        }
+        Err(fail(fb))
     }
 
     fn jacobian(&self, n: Nominal, x: [f64; 4], y: f64) -> (Matrix4<f64>, Vector4<f64>) {
@@ -224,15 +284,24 @@ impl ProfilePair {
     }
 
     /// Step 3: Newton on the four contact equations.
+    /// Steps are limited (|Δz| ≤ 1 mm, |Δφ| ≤ 1 mrad, |Δu| ≤ two scan steps) so that Newton
+    /// stays at the minimum the global scan found (near a jump the other one is close).
     fn polish(&self, n: Nominal, y: f64, mut x: [f64; 4]) -> Result<[f64; 4], GeometryError> {
-        for _ in 0..20 {
+        let limit = [1e-3, 1e-3, 2.0 * SCAN_STEP, 2.0 * SCAN_STEP];
+        for _ in 0..MAX_NEWTON {
             let (jac, f) = self.jacobian(n, x, y);
             let step = jac
                 .lu()
                 .solve(&f)
                 .ok_or(GeometryError::Singular { y_m: y })?;
+            let shrink = (0..4)
+                .map(|k| limit[k] / step[k].abs())
+                .fold(1.0f64, f64::min);
             for k in 0..4 {
-                x[k] -= step[k];
+                x[k] -= shrink * step[k];
+            }
+            if !step.amax().is_finite() {
+                break;
             }
             if step.amax() <= 1e-14 * n.rolling_radius {
                 return Ok(x);
@@ -242,7 +311,7 @@ impl ProfilePair {
         Err(GeometryError::NoConvergence {
             y_m: y,
             residual: f.amax(),
-            iterations: 20,
+            iterations: MAX_NEWTON,
         })
     }
 
