@@ -273,3 +273,48 @@ fn s1002_uic60_study_tabulates_with_jumps_reported() {
         assert!((j.wheel_offset_m.0 - j.wheel_offset_m.1).abs() > 5e-4);
     }
 }
+
+#[test]
+fn study_keys_are_checked() {
+    let text = std::fs::read_to_string(root().join("studies/s1002-uic60.toml")).expect("study");
+    let origin = root().join("studies/x.toml").display().to_string();
+    // a profile key on a cone geometry
+    let cone = text.replace(
+        "geometry = \"profiles\"",
+        "geometry = \"cone\"\nconicity = 0.05",
+    );
+    let e = critspeed::study::parse(&cone, &origin).expect_err("profile keys on a cone");
+    assert!(
+        e.to_string()
+            .contains("only applies to geometry \"profiles\""),
+        "{e}"
+    );
+    // the rail inclination must be stated
+    let no_incl: String = text
+        .lines()
+        .filter(|l| !l.starts_with("rail_inclination"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let e = critspeed::study::parse(&no_incl, &origin).expect_err("no inclination");
+    assert!(e.to_string().contains("contact.rail_inclination"), "{e}");
+    // a malformed profile named by the study: the error names the key, the file and the line
+    let dir = std::env::temp_dir().join(format!("critspeed-profiles-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("profiles")).expect("temp dir");
+    std::fs::copy(
+        root().join("studies/profiles/uic60_1in40.csv"),
+        dir.join("profiles/uic60_1in40.csv"),
+    )
+    .expect("copy rail");
+    let wheel = std::fs::read_to_string(root().join("studies/profiles/s1002.csv")).expect("s1002");
+    let mut lines: Vec<&str> = wheel.lines().collect();
+    lines.swap(10, 11); // breaks the monotonic order at file line 12
+    std::fs::write(dir.join("profiles/s1002.csv"), lines.join("\n")).expect("write");
+    let origin = dir.join("s.toml").display().to_string();
+    let e = critspeed::study::parse(&text, &origin).expect_err("malformed wheel");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("contact.wheel_profile") && msg.contains("s1002.csv:12:"),
+        "{msg}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -396,6 +396,7 @@ fn contact_plan(
             })
         }
     };
+    profiles::only_for_profiles(c)?;
     if c.geometry == "cone" && c.crown_offset.is_some() {
         return Err(StudyError::Rule {
             key: "contact.crown_offset".into(),

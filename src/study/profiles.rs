@@ -103,3 +103,30 @@ fn inclination(text: Option<&str>) -> Result<f64, StudyError> {
         _ => Err(rule(KEY, t, "must be \"none\" or a ratio such as \"1:40\"")),
     }
 }
+
+/// The profile keys are refused for the cone geometries (a misplaced key is an error).
+pub(super) fn only_for_profiles(c: &ContactSection) -> Result<(), StudyError> {
+    let profile_keys = [
+        ("wheel_profile", c.wheel_profile.is_some()),
+        ("rail_profile", c.rail_profile.is_some()),
+        ("wheel_profile_mirror", c.wheel_profile_mirror.is_some()),
+        ("wheel_profile_z_up", c.wheel_profile_z_up.is_some()),
+        ("rail_profile_mirror", c.rail_profile_mirror.is_some()),
+        ("rail_profile_z_up", c.rail_profile_z_up.is_some()),
+        ("rail_inclination", c.rail_inclination.is_some()),
+        ("track_gauge", c.track_gauge.is_some()),
+        ("gauge_depth", c.gauge_depth.is_some()),
+        ("profile_smoothing", c.profile_smoothing.is_some()),
+    ];
+    match profile_keys
+        .iter()
+        .find(|k| k.1 && c.geometry != "profiles")
+    {
+        Some((key, _)) => Err(rule(
+            &format!("contact.{key}"),
+            "given",
+            "only applies to geometry \"profiles\"",
+        )),
+        None => Ok(()),
+    }
+}
