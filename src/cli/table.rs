@@ -213,6 +213,15 @@ pub fn plan(p: &Plan) -> String {
             line("contact.geometry", "profiles".into());
             line("contact.wheel_profile", pair.files.0.clone());
             line("contact.rail_profile", pair.files.1.clone());
+            line("contact.track_gauge", format!("{} m", pair.track.gauge));
+            line(
+                "contact.gauge_depth",
+                format!("{} m", pair.track.gauge_depth),
+            );
+            line(
+                "contact.rail_inclination",
+                format!("{} rad (applied to the rail file)", pair.track.inclination),
+            );
             line("contact.profile_smoothing", format!("{smoothing} m"));
         }
     }

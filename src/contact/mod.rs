@@ -4,6 +4,7 @@ pub mod creep;
 pub mod geometry;
 pub mod hertz;
 pub mod kalker;
+mod placement;
 pub mod profile;
 mod profile_table;
 pub mod rigid;
