@@ -149,3 +149,44 @@ fn smooth(raw: &[Raw], h: f64, width: f64) -> Vec<[Dual<1>; 4]> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn raw_of(f: impl Fn(f64) -> f64, n: usize, h: f64) -> Vec<Raw> {
+        (0..n)
+            .map(|k| {
+                let y = (k as f64 - (n / 2) as f64) * h;
+                ([Dual::cst(f(y)); 4], 0.0)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn smoothing_keeps_lines_and_turns_steps_into_monotone_ramps() {
+        let h = 25e-6;
+        // a straight line: values and slopes exact, also at the table ends
+        let line = smooth(&raw_of(|y| 0.46 + 0.2 * y, 41, h), h, 1e-4);
+        for (k, c) in line.iter().enumerate() {
+            let y = (k as f64 - 20.0) * h;
+            assert!((c[0].re - (0.46 + 0.2 * y)).abs() < 1e-14, "{k}");
+            assert!((c[0].eps[0] - 0.2).abs() < 1e-9, "{k}");
+        }
+        // a step of 0.46 mm: monotone, no overshoot, odd about the step, slope ≥ 0
+        let step = smooth(
+            &raw_of(|y| if y > 0.0 { 4.6e-4 } else { 0.0 }, 81, h),
+            h,
+            1e-4,
+        );
+        for w in step.windows(2) {
+            assert!(w[1][0].re >= w[0][0].re - 1e-18);
+        }
+        for c in &step {
+            assert!((-1e-18..=4.6e-4 + 1e-18).contains(&c[0].re) && c[0].eps[0] >= -1e-12);
+        }
+        // beyond the window (|d| > w = 4 nodes) the step is untouched
+        assert!(step[30][0].re.abs() < 1e-18);
+        assert!((step[50][0].re - 4.6e-4).abs() < 1e-18);
+    }
+}
