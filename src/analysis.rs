@@ -88,6 +88,10 @@ pub struct GeometryReport {
     pub rows: Vec<Row>,
     /// effective conicity at the centre (–)
     pub centre_conicity: f64,
+    /// contact-point jumps of the right wheel (profile geometries)
+    pub jumps: Vec<crate::contact::table::Jump>,
+    /// nodes (y, m) where the lateral curvature was held inside Kalker's a/b range
+    pub clamped: Vec<f64>,
 }
 
 /// The geometry table of a model.
@@ -96,5 +100,7 @@ pub fn geometry(plan: &Plan, model: &Wheelset) -> GeometryReport {
         study: plan.name.clone(),
         rows: model.table.rows(),
         centre_conicity: model.centre_conicity(),
+        jumps: model.table.jumps().to_vec(),
+        clamped: model.table.clamped.clone(),
     }
 }

@@ -252,3 +252,35 @@ fn conicity_json_contract_and_errors() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("dr.csv:3"));
 }
+
+#[test]
+fn geometry_of_a_profile_study_reports_jumps_and_offsets() {
+    let dir = scratch("profiles");
+    let out = critspeed(&["geometry", &study("s1002-uic60.toml")], &dir);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("contact jump between y = "), "{text}");
+    let csv = std::fs::read_to_string(dir.join("out/s1002-uic60/geometry.csv")).expect("csv");
+    let header = csv.lines().next().expect("header");
+    assert!(
+        header.ends_with(",wheel_contact_offset_right_m"),
+        "{header}"
+    );
+    // a malformed profile is a user error (exit 2) naming the file and line
+    let bad = dir.join("bad.toml");
+    let text = std::fs::read_to_string(study("s1002-uic60.toml")).expect("study");
+    let text = text.replace("profiles/s1002.csv", "wheel.csv");
+    std::fs::write(&bad, text).expect("write study");
+    // 30 points 2 mm apart; the 6th (file line 7) goes backwards
+    let pts: String = (0..30)
+        .map(|k| format!("{},0\n", if k == 5 { 3 } else { 2 * k } as f64 - 30.0))
+        .collect();
+    std::fs::write(dir.join("wheel.csv"), format!("y_mm,z_mm\n{pts}")).expect("write wheel");
+    let out = critspeed(&["geometry", bad.to_str().expect("utf-8")], &dir);
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("wheel.csv:7:") && err.contains("monotonic"),
+        "{err}"
+    );
+}

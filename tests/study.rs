@@ -154,12 +154,9 @@ fn unknown_keys_and_choices_are_errors() {
         msg.contains("contact.creep_law") && msg.contains("polach"),
         "{msg}"
     );
-    let msg = error_of(&with(
-        "geometry = \"cone-on-arc\"",
-        "geometry = \"profiles\"",
-    ));
+    let msg = error_of(&with("geometry = \"cone-on-arc\"", "geometry = \"wedge\""));
     assert!(
-        msg.contains("contact.geometry") && msg.contains("profiles"),
+        msg.contains("contact.geometry") && msg.contains("wedge") && msg.contains("\"profiles\""),
         "{msg}"
     );
 }

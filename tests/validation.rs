@@ -15,6 +15,8 @@ use critspeed::reference::{
 use critspeed::stability::{critical_speeds, LinearOptions, LinearSystem};
 use critspeed::study;
 
+#[path = "validation/profiles.rs"]
+mod profiles_section;
 #[path = "validation_sections/table.rs"]
 mod table_sections;
 
@@ -245,7 +247,8 @@ fn report() -> String {
     dtu_section(&mut s);
     table_sections::table_geometry_section(&mut s);
     table_sections::dtu_wheelset_section(&mut s);
-    s.push_str("## 7. Not yet compared\n\nA published wheelset or bogie stability result with its linear and nonlinear critical speeds (section 6: none found for a single wheelset; Cooperrider's bogie as used by Kaas-Petersen and True is a bogie), and a published S1002/UIC60 geometry table against the profile solver (issue 5).\n");
+    profiles_section::section(&mut s);
+    s.push_str("## 8. Not yet compared\n\nA published wheelset or bogie stability result with its linear and nonlinear critical speeds: none was found for a single wheelset (section 6); Cooperrider's bogie, as used by Kaas-Petersen and True, is a bogie, and this tool models one wheelset.\n");
     s
 }
 

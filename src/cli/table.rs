@@ -124,7 +124,33 @@ pub fn geometry(g: &GeometryReport) -> String {
             c.creep.f11, c.creep.f22, c.creep.f23, c.creep.f33
         );
     }
+    geometry_events(&mut s, g);
     s
+}
+
+/// Contact-point jumps and Kalker-range clamps of a profile geometry.
+fn geometry_events(s: &mut String, g: &GeometryReport) {
+    for j in &g.jumps {
+        let _ = writeln!(
+            s,
+            "  contact jump between y = {:.4} and {:.4} mm: wheel point {:.3} -> {:.3} mm, r_R {:.4} -> {:.4} mm",
+            j.y_m.0 * 1e3,
+            j.y_m.1 * 1e3,
+            j.wheel_offset_m.0 * 1e3,
+            j.wheel_offset_m.1 * 1e3,
+            j.radius_m.0 * 1e3,
+            j.radius_m.1 * 1e3
+        );
+    }
+    if let (Some(a), Some(b)) = (g.clamped.first(), g.clamped.last()) {
+        let _ = writeln!(
+            s,
+            "  lateral curvature held inside Kalker's a/b range [0.1, 10] at {} nodes (y from {:.4} to {:.4} mm)",
+            g.clamped.len(),
+            a * 1e3,
+            b * 1e3
+        );
+    }
 }
 
 /// The resolved plan in SI.
@@ -169,11 +195,11 @@ pub fn plan(p: &Plan) -> String {
         format!("{} m", u.half_spring_spacing),
     );
     match &c.geometry {
-        Geometry::Cone { conicity } => {
+        &Geometry::Cone { conicity } => {
             line("contact.geometry", "cone".into());
             line("contact.conicity", format!("{conicity}"));
         }
-        Geometry::ConeOnArc {
+        &Geometry::ConeOnArc {
             conicity,
             rail_head_radius,
             crown_offset,
@@ -186,6 +212,21 @@ pub fn plan(p: &Plan) -> String {
         Geometry::Table(t) => {
             line("contact.geometry", "table".into());
             line("contact.geometry_table", t.source.clone());
+        }
+        Geometry::Profiles { pair, smoothing } => {
+            line("contact.geometry", "profiles".into());
+            line("contact.wheel_profile", pair.files.0.clone());
+            line("contact.rail_profile", pair.files.1.clone());
+            line("contact.track_gauge", format!("{} m", pair.track.gauge));
+            line(
+                "contact.gauge_depth",
+                format!("{} m", pair.track.gauge_depth),
+            );
+            line(
+                "contact.rail_inclination",
+                format!("{} rad (applied to the rail file)", pair.track.inclination),
+            );
+            line("contact.profile_smoothing", format!("{smoothing} m"));
         }
     }
     match c.creep_law {

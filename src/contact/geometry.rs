@@ -19,6 +19,7 @@ use std::sync::Arc;
 
 use nalgebra::{Matrix4, Vector4};
 
+use super::rigid::ProfilePair;
 use crate::contact::tabulated::TabulatedGeometry;
 use crate::system::scalar::{Dual, Scalar};
 
@@ -41,6 +42,14 @@ pub enum Geometry {
     },
     /// A geometry tabulated in a file (MODEL §3, method 3), interpolated by C² splines.
     Table(Arc<TabulatedGeometry>),
+    /// Two arbitrary profiles (wheel and rail point lists) in rigid contact (MODEL §3,
+    /// method 2); see [`crate::contact::rigid`].
+    Profiles {
+        /// the placed profile pair
+        pair: Arc<ProfilePair>,
+        /// half-width of the local-regression smoothing of the tabulated functions (m); 0: none
+        smoothing: f64,
+    },
 }
 
 /// The right wheel's contact state at one lateral displacement.
@@ -74,6 +83,13 @@ pub enum GeometryError {
         offset_m: f64,
         radius_m: f64,
     },
+    /// The contact point left the running part of the wheel profile.
+    #[error("at y = {y_m:.6e} m the wheel contact point u = {offset_m:.6e} m leaves the wheel profile's running part [{:.6e}, {:.6e}] m", .range_m.0, .range_m.1)]
+    OffProfile {
+        y_m: f64,
+        offset_m: f64,
+        range_m: (f64, f64),
+    },
     /// The Jacobian of the contact equations is singular.
     #[error("rigid contact equations are singular at y = {y_m:.6e} m")]
     Singular { y_m: f64 },
@@ -97,18 +113,20 @@ pub struct Nominal {
 }
 
 impl Geometry {
-    /// The cone slope λ; for a table, the slope dr_R/dy at y = 0.
+    /// The cone slope λ; for a table, the slope dr_R/dy at y = 0; NaN for profiles, which
+    /// have no single slope (their model's `centre_conicity` is the slope at the centre).
     pub fn conicity(&self) -> f64 {
         match self {
             Geometry::Cone { conicity } | Geometry::ConeOnArc { conicity, .. } => *conicity,
             Geometry::Table(t) => t.point(0.0).radius.eps[0],
+            Geometry::Profiles { .. } => f64::NAN,
         }
     }
 
     /// Transverse curvature of the rail head at the contact (1/m); 0 for a knife edge.
     pub fn rail_transverse_curvature(&self) -> Option<f64> {
         match *self {
-            Geometry::Cone { .. } | Geometry::Table(_) => None,
+            Geometry::Cone { .. } | Geometry::Table(_) | Geometry::Profiles { .. } => None,
             Geometry::ConeOnArc {
                 rail_head_radius, ..
             } => Some(1.0 / rail_head_radius),
@@ -124,9 +142,10 @@ impl Geometry {
         guess: Option<[f64; 4]>,
     ) -> Result<(ContactPoint<Dual<1>>, [f64; 4]), GeometryError> {
         let yd = Dual::<1>::var(y, 0);
-        match *self {
-            Geometry::Cone { conicity } => Ok((cone(conicity, nominal, yd), [0.0; 4])),
-            Geometry::ConeOnArc {
+        match self {
+            Geometry::Profiles { pair, .. } => pair.solve(nominal, y, guess),
+            &Geometry::Cone { conicity } => Ok((cone(conicity, nominal, yd), [0.0; 4])),
+            &Geometry::ConeOnArc {
                 conicity,
                 rail_head_radius,
                 crown_offset,
@@ -139,7 +158,7 @@ impl Geometry {
                 };
                 arc.solve(y, guess)
             }
-            Geometry::Table(ref t) => {
+            Geometry::Table(t) => {
                 let (min_m, max_m) = t.range();
                 if !(min_m..=max_m).contains(&y) {
                     return Err(GeometryError::OutsideTable {

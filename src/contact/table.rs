@@ -15,6 +15,7 @@
 use crate::contact::geometry::{ContactPoint, Geometry, GeometryError, Nominal};
 use crate::contact::hertz::{hertz_patch, HertzError};
 use crate::contact::kalker::{creep_coefficients, CreepCoefficients, KalkerError};
+use crate::contact::tabulated::TabulatedGeometry;
 use crate::system::scalar::{Dual, Scalar};
 
 /// Column indices of the table.
@@ -107,6 +108,23 @@ pub struct ContactTable {
     value: Vec<[f64; COLUMNS]>,
     slope: Vec<[f64; COLUMNS]>,
     has_patch: bool,
+    /// raw wheel contact offset at each node (m), NaN when not tracked
+    offsets: Vec<f64>,
+    /// contact-point jumps found while tabulating
+    jumps: Vec<Jump>,
+    /// nodes (y, m) where the lateral curvature B was held inside Kalker's a/b range
+    pub clamped: Vec<f64>,
+}
+
+/// A discontinuity of the right wheel's contact point between two table nodes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Jump {
+    /// the two nodes' lateral displacements (m)
+    pub y_m: (f64, f64),
+    /// the wheel contact point's outward offset from the taping line at each (m)
+    pub wheel_offset_m: (f64, f64),
+    /// the rolling radius at each (m)
+    pub radius_m: (f64, f64),
 }
 
 /// Where `y` falls in the table, with the Hermite weights.
@@ -130,6 +148,17 @@ pub struct WheelState<T> {
 impl ContactTable {
     /// Samples `geometry` on the grid of `spec`.
     pub fn build(geometry: &Geometry, spec: &TableSpec) -> Result<Self, TableError> {
+        if let Geometry::Profiles { pair, smoothing } = geometry {
+            return super::profile_table::build(pair, *smoothing, spec);
+        }
+        let lateral = spec
+            .rail_head_radius
+            .or_else(|| geometry.rail_transverse_curvature().map(|k| 1.0 / k))
+            .map(|r| Dual::cst(1.0 / r));
+        let tabulated = match geometry {
+            Geometry::Table(t) => Some(t.as_ref()),
+            _ => None,
+        };
         let n = spec.nodes.max(5) | 1;
         let half = (n - 1) / 2;
         let h = spec.half_width / half as f64;
@@ -143,7 +172,7 @@ impl ContactTable {
                 let y = dir * k as f64 * h;
                 let (point, u) = geometry.solve(spec.nominal, y, guess)?;
                 guess = Some(u);
-                let cols = node_columns(point, geometry, spec, y)?;
+                let cols = node_columns(point, tabulated, lateral, spec, y)?;
                 has_patch = cols.1;
                 let idx = (half as isize + dir as isize * k as isize) as usize;
                 for (c, d) in cols.0.iter().enumerate() {
@@ -158,7 +187,45 @@ impl ContactTable {
             value,
             slope,
             has_patch,
+            offsets: vec![f64::NAN; n],
+            jumps: Vec::new(),
+            clamped: Vec::new(),
         })
+    }
+
+    /// Assembles a table from node states (uniform grid from `y0` with step `h`): the
+    /// geometry as duals (value, d/dy) and the lateral relative curvature B (1/m).
+    pub(crate) fn assemble(
+        spec: &TableSpec,
+        (y0, h): (f64, f64),
+        nodes: &[(ContactPoint<Dual<1>>, Dual<1>)],
+        offsets: Vec<f64>,
+        jumps: Vec<Jump>,
+    ) -> Result<Self, TableError> {
+        let mut value = Vec::with_capacity(nodes.len());
+        let mut slope = Vec::with_capacity(nodes.len());
+        let mut has_patch = false;
+        for (k, &(p, b)) in nodes.iter().enumerate() {
+            let (cols, patch) = node_columns(p, None, Some(b), spec, y0 + k as f64 * h)?;
+            has_patch = patch;
+            value.push(cols.map(|d| d.re));
+            slope.push(cols.map(|d| d.eps[0]));
+        }
+        Ok(Self {
+            y0,
+            h,
+            value,
+            slope,
+            has_patch,
+            offsets,
+            jumps,
+            clamped: Vec::new(),
+        })
+    }
+
+    /// Contact-point jumps found while tabulating (profiles only).
+    pub fn jumps(&self) -> &[Jump] {
+        &self.jumps
     }
 
     /// The tabulated half-width (m).
@@ -182,7 +249,7 @@ impl ContactTable {
                         radius: v[RADIUS],
                         angle: v[ANGLE],
                         roll: v[ROLL],
-                        wheel_offset: f64::NAN,
+                        wheel_offset: self.offsets[k],
                     },
                     semi_axes: self.has_patch.then_some((v[SEMI_A], v[SEMI_B])),
                     creep: CreepCoefficients {
@@ -289,19 +356,18 @@ impl ContactTable {
 }
 
 /// The table columns at one node, as one-direction duals (value and d/dy).
+/// `lateral` is B (1/m): 1/R_rail for a cone (straight transversally), or the profiles'
+/// κ_wheel + κ_rail; `None`: no Hertz patch.
 fn node_columns(
     p: ContactPoint<Dual<1>>,
-    geometry: &Geometry,
+    tabulated: Option<&TabulatedGeometry>,
+    lateral: Option<Dual<1>>,
     spec: &TableSpec,
     y: f64,
 ) -> Result<([Dual<1>; COLUMNS], bool), TableError> {
     let zero = Dual::cst(0.0);
     // MODEL §4: N = (W/2)/cos δ
     let normal = p.angle.cos().recip() * (spec.axle_load / 2.0);
-    let tabulated = match geometry {
-        Geometry::Table(t) => Some(t.as_ref()),
-        _ => None,
-    };
     if let Some((column, value)) = tabulated.and_then(|t| t.non_positive_at(y)) {
         return Err(TableError::NonPositive {
             table: tabulated.map_or_else(String::new, |t| t.source.clone()),
@@ -310,9 +376,21 @@ fn node_columns(
             value,
         });
     }
-    let patch = match tabulated.and_then(|t| t.semi_axes(y, normal)) {
-        Some(ab) => Some(ab),
-        None => hertz_from_rail(p, normal, geometry, spec, y)?,
+    let patch = match (tabulated.and_then(|t| t.semi_axes(y, normal)), lateral) {
+        (Some(ab), _) => Some(ab),
+        // A = 1/r (rolling), B as given
+        (None, Some(lateral)) => {
+            let patch = hertz_patch(
+                normal,
+                p.radius.recip(),
+                lateral,
+                spec.elastic.young_modulus,
+                spec.elastic.poisson_ratio,
+            )
+            .map_err(|source| TableError::Hertz { y_m: y, source })?;
+            Some((patch.a, patch.b))
+        }
+        (None, None) => None,
     };
     let creep = match (spec.creep, patch) {
         (CreepSource::Given(c), _) => CreepCoefficients {
@@ -338,30 +416,4 @@ fn node_columns(
         ],
         patch.is_some(),
     ))
-}
-
-/// The Hertz patch from the rail head radius (a cone is straight transversally), if known.
-fn hertz_from_rail(
-    p: ContactPoint<Dual<1>>,
-    normal: Dual<1>,
-    geometry: &Geometry,
-    spec: &TableSpec,
-    y: f64,
-) -> Result<Option<(Dual<1>, Dual<1>)>, TableError> {
-    let Some(rail_radius) = spec
-        .rail_head_radius
-        .or_else(|| geometry.rail_transverse_curvature().map(|k| 1.0 / k))
-    else {
-        return Ok(None);
-    };
-    // MODEL §4: A = 1/r (rolling), B = 1/R_rail
-    let patch = hertz_patch(
-        normal,
-        p.radius.recip(),
-        Dual::cst(1.0 / rail_radius),
-        spec.elastic.young_modulus,
-        spec.elastic.poisson_ratio,
-    )
-    .map_err(|source| TableError::Hertz { y_m: y, source })?;
-    Ok(Some((patch.a, patch.b)))
 }

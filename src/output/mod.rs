@@ -90,7 +90,8 @@ pub fn spectrum_csv(r: &LinearReport) -> String {
 pub fn geometry_csv(g: &GeometryReport) -> String {
     let mut s = String::from(
         "y_m,r_right_m,r_right_minus_r_left_m,delta_right_rad,delta_left_rad,roll_rad,\
-hertz_a_right_m,hertz_b_right_m,f11_right_n,f22_right_n,f23_right_n_m,f33_right_n_m2\n",
+hertz_a_right_m,hertz_b_right_m,f11_right_n,f22_right_n,f23_right_n_m,f33_right_n_m2,\
+wheel_contact_offset_right_m\n",
     );
     let n = g.rows.len();
     for (k, row) in g.rows.iter().enumerate() {
@@ -103,7 +104,7 @@ hertz_a_right_m,hertz_b_right_m,f11_right_n,f22_right_n,f23_right_n_m,f33_right_
             });
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{a},{b},{},{},{},{}",
+            "{},{},{},{},{},{},{a},{b},{},{},{},{},{}",
             row.y,
             row.point.radius,
             row.point.radius - mirror.point.radius,
@@ -114,6 +115,11 @@ hertz_a_right_m,hertz_b_right_m,f11_right_n,f22_right_n,f23_right_n_m,f33_right_
             row.creep.f22,
             row.creep.f23,
             row.creep.f33,
+            if row.point.wheel_offset.is_nan() {
+                String::new()
+            } else {
+                row.point.wheel_offset.to_string()
+            },
         );
     }
     s

@@ -3,6 +3,7 @@
 //! The plan is entirely SI; nothing after it sees strings or millimetres. See README.md for
 //! the file format; [`DEFAULT_STUDY`] is the seed study embedded in the binary.
 
+mod profiles;
 pub mod schema;
 mod tabulated;
 pub mod units;
@@ -49,6 +50,11 @@ pub enum StudyError {
     Missing { key: String, why: String },
     #[error("contact.geometry_table: {0}")]
     Table(crate::contact::tabulated::TabulatedError),
+    #[error("{key}: {source}")]
+    Profile {
+        key: String,
+        source: crate::contact::profile::ProfileError,
+    },
     #[error("{key} = {value:?} is not one of {allowed}")]
     Choice {
         key: String,
@@ -110,10 +116,11 @@ pub fn load(path: &Path) -> Result<Plan, StudyError> {
     parse_in(&text, &path.display().to_string(), path.parent())
 }
 
-/// Parses and validates study text; `origin` names it in messages. A geometry table path is
-/// taken relative to the current directory.
+/// Parses and validates study text; `origin` names it in messages. Relative paths in the study
+/// (geometry table, profiles) are taken from `origin`'s folder when `origin` is a file path,
+/// else from the current directory.
 pub fn parse(text: &str, origin: &str) -> Result<Plan, StudyError> {
-    parse_in(text, origin, None)
+    parse_in(text, origin, Path::new(origin).parent())
 }
 
 /// Parses and validates study text whose relative paths (the geometry table) are relative
@@ -366,6 +373,11 @@ fn contact_plan(
             conicity: cone_slope()?,
         },
         "table" => tabulated::geometry(c, w, folder)?,
+        "profiles" => profiles::geometry(
+            c,
+            folder.unwrap_or(Path::new("")),
+            rail_head_radius.is_some(),
+        )?,
         "cone-on-arc" => {
             let lambda = cone_slope()?;
             let radius = rail_head_radius.ok_or_else(|| StudyError::Missing {
@@ -395,7 +407,7 @@ fn contact_plan(
             return Err(StudyError::Choice {
                 key: "contact.geometry".into(),
                 value: other.into(),
-                allowed: "\"cone\", \"cone-on-arc\", \"table\"",
+                allowed: "\"cone\", \"cone-on-arc\", \"table\", \"profiles\"",
             })
         }
     };
@@ -406,6 +418,7 @@ fn contact_plan(
             "only applies to geometry \"table\"",
         ));
     }
+    profiles::only_for_profiles(c)?;
     if c.geometry == "cone" && c.crown_offset.is_some() {
         return Err(StudyError::Rule {
             key: "contact.crown_offset".into(),
@@ -461,7 +474,7 @@ fn contact_plan(
                 Dimension::ForceArea,
             )?,
         }),
-        None if rail_head_radius.is_some() => CreepSource::Hertz,
+        None if rail_head_radius.is_some() || c.geometry == "profiles" => CreepSource::Hertz,
         None if matches!(&geometry, Geometry::Table(t) if t.has_semi_axes()) => CreepSource::Hertz,
         None => {
             return Err(StudyError::Missing {

@@ -64,7 +64,7 @@ pub struct SuspensionSection {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSection {
-    /// "cone", "cone-on-arc" or "table"
+    /// "cone", "cone-on-arc", "table" or "profiles"
     pub geometry: String,
     /// cone slope λ: a number (0.05) or a ratio string ("1:20"); cone geometries only
     #[serde(default)]
@@ -72,6 +72,36 @@ pub struct ContactSection {
     /// geometry "table": the CSV file, relative to the study file's folder
     #[serde(default)]
     pub geometry_table: Option<String>,
+    /// wheel profile point list (CSV), relative to the study file's folder ("profiles")
+    #[serde(default)]
+    pub wheel_profile: Option<String>,
+    /// rail profile point list (CSV), relative to the study file's folder ("profiles")
+    #[serde(default)]
+    pub rail_profile: Option<String>,
+    /// the wheel file's lateral axis points towards the flange (default false: outward)
+    #[serde(default)]
+    pub wheel_profile_mirror: Option<bool>,
+    /// the wheel file's vertical axis points up (default false: down)
+    #[serde(default)]
+    pub wheel_profile_z_up: Option<bool>,
+    /// the rail file's lateral axis points towards the gauge side (default false: outward)
+    #[serde(default)]
+    pub rail_profile_mirror: Option<bool>,
+    /// the rail file's vertical axis points up (default false: down)
+    #[serde(default)]
+    pub rail_profile_z_up: Option<bool>,
+    /// inclination applied to the rail profile: "1:20", "1:40" or "none"
+    #[serde(default)]
+    pub rail_inclination: Option<String>,
+    /// track gauge between the gauge points ("profiles"; default 1435 mm)
+    #[serde(default)]
+    pub track_gauge: Option<Quantity>,
+    /// depth of the gauge point below the rail top ("profiles"; default 14 mm)
+    #[serde(default)]
+    pub gauge_depth: Option<Quantity>,
+    /// half-width of the smoothing of the tabulated profile geometry ("profiles"; default 0)
+    #[serde(default)]
+    pub profile_smoothing: Option<Quantity>,
     #[serde(default)]
     pub rail_head_radius: Option<Quantity>,
     #[serde(default)]

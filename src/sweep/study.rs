@@ -93,9 +93,10 @@ impl SweepStudy {
     }
 
     /// Parses study text with a `[sweep]` section; `origin` names it in messages; relative
-    /// paths in it (geometry tables, profiles) are taken from the current directory.
+    /// paths in it (geometry tables, profiles) are taken from `origin`'s folder (see
+    /// [`study::parse`]).
     pub fn parse(text: &str, origin: &str) -> Result<Self, SweepError> {
-        Self::parse_in(text, origin, None)
+        Self::parse_in(text, origin, std::path::Path::new(origin).parent())
     }
 
     /// As [`Self::parse`], with relative paths taken from `folder` (the study file's folder).
