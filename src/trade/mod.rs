@@ -154,31 +154,10 @@ pub enum TradeError {
     },
 }
 
-/// Swept study keys a trade may name, with their dimensions.
-pub const AXIS_KEYS: [(&str, Dimension); 18] = [
-    ("wheelset.mass", Dimension::Mass),
-    ("wheelset.yaw_inertia", Dimension::Inertia),
-    ("wheelset.axle_load", Dimension::Force),
-    ("wheelset.half_contact_distance", Dimension::Length),
-    ("wheelset.rolling_radius", Dimension::Length),
-    ("suspension.lateral_stiffness", Dimension::Stiffness),
-    ("suspension.longitudinal_stiffness", Dimension::Stiffness),
-    ("suspension.lateral_damping", Dimension::Damping),
-    ("suspension.longitudinal_damping", Dimension::Damping),
-    ("suspension.half_spring_spacing", Dimension::Length),
-    ("contact.conicity", Dimension::Dimensionless),
-    ("contact.rail_head_radius", Dimension::Length),
-    ("contact.crown_offset", Dimension::Length),
-    ("contact.friction", Dimension::Dimensionless),
-    ("contact.young_modulus", Dimension::Pressure),
-    ("contact.shear_modulus", Dimension::Pressure),
-    ("flange.clearance", Dimension::Length),
-    ("flange.stiffness", Dimension::Stiffness),
-];
-
-/// The dimension of a swept study key, if it is one.
+/// The dimension of a swept study key, if it is one (the keys a sweep may vary,
+/// [`crate::sweep::SWEEP_KEYS`]).
 pub fn axis_dimension(key: &str) -> Option<Dimension> {
-    AXIS_KEYS.iter().find(|(k, _)| *k == key).map(|(_, d)| *d)
+    crate::sweep::spec::key_dimension(key)
 }
 
 /// A convenient display unit for a dimension: `(unit, factor)` with display = SI × factor.
