@@ -33,7 +33,7 @@ pub enum StudyError {
     },
     #[error("study file {path} is not valid: {message}")]
     Syntax { path: String, message: String },
-    #[error("{key} = {value:?}: {problem}; expected a {dim} in SI ({}) or with one of the units {}", .dim.si_unit(), .dim.accepted())]
+    #[error("{key} = {value:?}: {problem}; expected {}", .dim.expectation())]
     Unit {
         key: String,
         value: String,

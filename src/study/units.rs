@@ -119,6 +119,19 @@ impl Dimension {
         }
     }
 
+    /// What a value of this dimension may be written as, for error messages.
+    pub fn expectation(self) -> String {
+        if matches!(self, Dimension::Dimensionless) {
+            return format!("a {} without a unit (e.g. 0.3)", self.name());
+        }
+        format!(
+            "a {} in SI ({}) or with one of the units {}",
+            self.name(),
+            self.si_unit(),
+            self.accepted()
+        )
+    }
+
     /// The accepted units, for error messages.
     pub fn accepted(self) -> String {
         self.units()
