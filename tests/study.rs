@@ -181,3 +181,15 @@ fn missing_files_and_syntax_errors() {
     let msg = error_of("name = \"x\"\n[wheelset\n");
     assert!(msg.contains("not valid"), "{msg}");
 }
+
+/// Regression: a unit on a pure-number key used to print "expected a pure number in SI () or
+/// with one of the units ''".
+#[test]
+fn a_unit_on_a_pure_number_is_named_as_such() {
+    let e = error_of(&with("friction = 0.3", "friction = \"0.3 N\""));
+    assert!(
+        e.contains("contact.friction") && e.contains("pure number without a unit"),
+        "{e}"
+    );
+    assert!(!e.contains("SI ()"), "{e}");
+}
