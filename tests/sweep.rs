@@ -2,12 +2,15 @@
 //! byte-identical whatever the thread count, after an interruption and resume, and when
 //! joined from shards; bad axes are user errors that name the key.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Command, Output};
 
 use critspeed::contact::creep::CreepLaw;
 use critspeed::sweep::{self, Shard, SweepOptions, SweepStudy};
 use critspeed::{analysis, bifurcation, study};
+
+mod common;
+use common::{critspeed, scratch};
 
 fn base_text() -> String {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/seed-hunting.toml");
@@ -84,21 +87,6 @@ fn sweep_points_equal_single_point_runs() {
     }
     // the grid has both kinds of points
     assert!((4..9).contains(&found), "{found} points ok");
-}
-
-fn critspeed(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_critspeed"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the binary runs")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("critspeed-sweep-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
 }
 
 fn ok(out: &Output) {

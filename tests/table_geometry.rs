@@ -12,25 +12,11 @@ use critspeed::stability::{critical_speeds, LinearOptions, LinearSystem};
 use critspeed::study;
 use critspeed::system::scalar::Dual;
 
+mod common;
+use common::{grid, table_text};
+
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// A table of `f` at the given y (m), written with the header `header` and unit factors.
-fn table_text(header: &str, ys: &[f64], row: impl Fn(f64) -> Vec<f64>) -> String {
-    let mut s = format!("# test table\n{header}\n");
-    for &y in ys {
-        let cells: Vec<String> = row(y).iter().map(|v| format!("{v:e}")).collect();
-        s += &cells.join(",");
-        s.push('\n');
-    }
-    s
-}
-
-fn grid(n: usize, half: f64) -> Vec<f64> {
-    (0..n)
-        .map(|i| -half + 2.0 * half * i as f64 / (n - 1) as f64)
-        .collect()
 }
 
 #[test]

@@ -3,27 +3,14 @@
 //! lowest swept stiffness whose linear critical speed meets the constraint.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use critspeed::{analysis, study};
 
+mod common;
+use common::{critspeed, scratch};
+
 const STUDY: &str = "trade-longitudinal-stiffness.toml";
 const LINE_SPEED: f64 = 200.0 / 3.6; // m/s
-
-fn critspeed(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_critspeed"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the binary runs")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("critspeed-trade-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
 
 fn study_text() -> String {
     let path = format!("{}/studies/{STUDY}", env!("CARGO_MANIFEST_DIR"));

@@ -1,0 +1,44 @@
+//! Helpers shared by the integration tests (each test file uses only some of them).
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs the real binary with `args` in `cwd`.
+pub fn critspeed(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_critspeed"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the binary runs")
+}
+
+/// An empty scratch folder for one test, named after the test file, `name` and the process.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "critspeed-{}-{name}-{}",
+        env!("CARGO_CRATE_NAME"),
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+/// A geometry table: a comment line, `header`, then one row `row(y)` per y (m).
+pub fn table_text(header: &str, ys: &[f64], row: impl Fn(f64) -> Vec<f64>) -> String {
+    let mut s = format!("# test table\n{header}\n");
+    for &y in ys {
+        let cells: Vec<String> = row(y).iter().map(|v| format!("{v:e}")).collect();
+        s += &cells.join(",");
+        s.push('\n');
+    }
+    s
+}
+
+/// `n` points spread uniformly over [−half, half].
+pub fn grid(n: usize, half: f64) -> Vec<f64> {
+    (0..n)
+        .map(|i| -half + 2.0 * half * i as f64 / (n - 1) as f64)
+        .collect()
+}
