@@ -190,3 +190,28 @@ fn trade_runs_the_sweep_first() {
     );
     assert_eq!(again.stdout, out.stdout);
 }
+
+/// `critspeed check` validates `[sweep]` and `[trade]` too (it used to pass a broken trade).
+#[test]
+fn check_validates_sweep_and_trade() {
+    let dir = scratch("check");
+    let good = dir.join("good.toml");
+    std::fs::write(&good, study_text()).expect("write");
+    let out = critspeed(&["check", good.to_str().expect("utf-8")], &dir);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("[sweep] valid: 25 points") && stdout.contains("[trade] valid"),
+        "{stdout}"
+    );
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, study_text().replace("minimize = ", "minimise = ")).expect("write");
+    let out = critspeed(&["check", bad.to_str().expect("utf-8")], &dir);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("trade.minimise"), "{err}");
+}

@@ -94,7 +94,8 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
         }
         Command::Check { study } => {
             let plan = load(study)?;
-            print!("{}", table::plan(&plan));
+            let sections = super::trade::check_sections(study)?;
+            print!("{}{sections}", table::plan(&plan));
             Ok(())
         }
     }

@@ -86,3 +86,42 @@ pub fn run(a: &TradeArgs, root: &Path) -> Result<(), Failure> {
     }
     Ok(())
 }
+
+/// `critspeed check`: validates the study's `[sweep]` (every axis value gives a valid study)
+/// and `[trade]` sections too, and says what they hold.
+pub(super) fn check_sections(path: &Path) -> Result<String, Failure> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("reading {}", path.display()))
+        .map_err(user)?;
+    let file: StudyFile = toml::from_str(&text)
+        .with_context(|| format!("study file {} is not valid", path.display()))
+        .map_err(user)?;
+    let mut out = String::new();
+    if file.sweep.is_some() {
+        let s =
+            crate::sweep::SweepStudy::parse_in(&text, &path.display().to_string(), path.parent())
+                .map_err(|e| {
+                if e.is_user_error() {
+                    user(e)
+                } else {
+                    super::commands::compute(e)
+                }
+            })?;
+        let keys: Vec<String> = s
+            .spec
+            .axes
+            .iter()
+            .map(|a| format!("{} ({} values)", a.key, a.values.len()))
+            .collect();
+        out += &format!(
+            "[sweep] valid: {} points over {}\n",
+            s.spec.len(),
+            keys.join(" x ")
+        );
+    }
+    if let Some(t) = &file.trade {
+        trade::trade_plan(t).map_err(user)?;
+        out += "[trade] valid\n";
+    }
+    Ok(out)
+}
