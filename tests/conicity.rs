@@ -4,19 +4,9 @@
 
 use critspeed::conicity::DeltaR;
 use std::collections::BTreeMap;
-use std::path::PathBuf;
 
-fn reference(name: &str) -> String {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let path = [
-        root.join("../shared/reference").join(name),
-        root.join("tests/data").join(name),
-    ]
-    .into_iter()
-    .find(|p| p.is_file())
-    .unwrap_or_else(|| panic!("{name} not found"));
-    std::fs::read_to_string(path).expect("readable")
-}
+mod common;
+use common::reference;
 
 fn rows(text: &str) -> Vec<Vec<String>> {
     text.lines()

@@ -3,8 +3,6 @@
 //! closed-form cone's critical speeds, and the DTU table's conversion. The reader's units and
 //! errors are in `tests/table_reader.rs`.
 
-use std::path::PathBuf;
-
 use critspeed::contact::creep::CreepLaw;
 use critspeed::contact::geometry::Geometry;
 use critspeed::contact::tabulated::TabulatedGeometry;
@@ -13,11 +11,7 @@ use critspeed::study;
 use critspeed::system::scalar::Dual;
 
 mod common;
-use common::{grid, table_text};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use common::{grid, reference, root, table_text};
 
 #[test]
 fn a_missing_file_names_the_path_and_the_key() {
@@ -197,17 +191,6 @@ fn the_dtu_table_is_reproduced_at_its_nodes() {
             );
         }
     }
-}
-
-fn reference(name: &str) -> String {
-    let path = [
-        root().join("../shared/reference").join(name),
-        root().join("tests/data").join(name),
-    ]
-    .into_iter()
-    .find(|p| p.is_file())
-    .unwrap_or_else(|| panic!("{name} not found"));
-    std::fs::read_to_string(path).expect("readable")
 }
 
 fn rows(text: &str) -> Vec<Vec<f64>> {

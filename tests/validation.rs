@@ -3,7 +3,6 @@
 //! regenerate it with `CRITSPEED_BLESS=1 cargo test --release --test validation`.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
 
 use critspeed::conicity::DeltaR;
 use critspeed::contact::creep::CreepLaw;
@@ -15,27 +14,15 @@ use critspeed::reference::{
 use critspeed::stability::{critical_speeds, LinearOptions, LinearSystem};
 use critspeed::study;
 
+mod common;
+use common::{reference, root};
+
 #[path = "validation_sections/closed.rs"]
 mod closed_sections;
 #[path = "validation/profiles.rs"]
 mod profiles_section;
 #[path = "validation_sections/table.rs"]
 mod table_sections;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn reference(name: &str) -> String {
-    let path = [
-        root().join("../shared/reference").join(name),
-        root().join("tests/data").join(name),
-    ]
-    .into_iter()
-    .find(|p| p.is_file())
-    .unwrap_or_else(|| panic!("{name} not found"));
-    std::fs::read_to_string(path).expect("readable")
-}
 
 fn data_rows(text: &str) -> Vec<Vec<f64>> {
     text.lines()

@@ -28,12 +28,7 @@ pub struct TradeArgs {
 
 /// The `[trade]` table of the study file, validated.
 fn trade_plan(path: &Path) -> Result<trade::TradePlan, Failure> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("reading {}", path.display()))
-        .map_err(user)?;
-    let file: StudyFile = toml::from_str(&text)
-        .with_context(|| format!("study file {} is not valid", path.display()))
-        .map_err(user)?;
+    let (_, file) = study_file(path)?;
     let table = file.trade.ok_or_else(|| {
         user(anyhow!(
             "study {} has no [trade] section (see README, \"Trade studies\")",
@@ -90,12 +85,7 @@ pub fn run(a: &TradeArgs, root: &Path) -> Result<(), Failure> {
 /// `critspeed check`: validates the study's `[sweep]` (every axis value gives a valid study)
 /// and `[trade]` sections too, and says what they hold.
 pub(super) fn check_sections(path: &Path) -> Result<String, Failure> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("reading {}", path.display()))
-        .map_err(user)?;
-    let file: StudyFile = toml::from_str(&text)
-        .with_context(|| format!("study file {} is not valid", path.display()))
-        .map_err(user)?;
+    let (text, file) = study_file(path)?;
     let mut out = String::new();
     if file.sweep.is_some() {
         let s =
@@ -124,4 +114,15 @@ pub(super) fn check_sections(path: &Path) -> Result<String, Failure> {
         out += "[trade] valid\n";
     }
     Ok(out)
+}
+
+/// The study file's text and its schema (the raw `[sweep]` and `[trade]` tables with it).
+fn study_file(path: &Path) -> Result<(String, StudyFile), Failure> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("reading {}", path.display()))
+        .map_err(user)?;
+    let file: StudyFile = toml::from_str(&text)
+        .with_context(|| format!("study file {} is not valid", path.display()))
+        .map_err(user)?;
+    Ok((text, file))
 }

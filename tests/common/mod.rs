@@ -42,3 +42,21 @@ pub fn grid(n: usize, half: f64) -> Vec<f64> {
         .map(|i| -half + 2.0 * half * i as f64 / (n - 1) as f64)
         .collect()
 }
+
+/// The crate's folder.
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A published reference file: from `../shared/reference/` when the shared folder is beside
+/// the clone, else the cited copy in `tests/data/`.
+pub fn reference(name: &str) -> String {
+    let path = [
+        root().join("../shared/reference").join(name),
+        root().join("tests/data").join(name),
+    ]
+    .into_iter()
+    .find(|p| p.is_file())
+    .unwrap_or_else(|| panic!("{name} not found"));
+    std::fs::read_to_string(path).expect("readable")
+}
