@@ -9,6 +9,5 @@ pub mod profile;
 mod profile_table;
 pub mod rigid;
 pub mod spline;
-pub mod spline_natural;
 pub mod table;
 pub mod tabulated;

@@ -3,10 +3,10 @@
 
 use super::profile::{Points, ProfileError, MAX_SLOPE};
 use super::rigid::Track;
-use super::spline_natural::Spline;
+use super::spline::CubicSpline;
 
 /// ρ(u) = z_down(u) − z_down(0) over the running part of the wheel.
-pub(super) fn wheel_spline(p: &Points) -> Result<Spline, ProfileError> {
+pub(super) fn wheel_spline(p: &Points) -> Result<CubicSpline, ProfileError> {
     let anchor = p.u.iter().position(|&u| u >= 0.0).filter(|&k| k > 0);
     let Some(anchor) = anchor else {
         return Err(p.shape_error(
@@ -21,7 +21,7 @@ pub(super) fn wheel_spline(p: &Points) -> Result<Spline, ProfileError> {
             MAX_SLOPE
         )));
     }
-    let s0 = Spline::natural(&p.u[lo..=hi], &p.z_down[lo..=hi]);
+    let s0 = natural(p, "wheel", &p.u[lo..=hi], &p.z_down[lo..=hi])?;
     let z0 = s0.eval(0.0).0;
     let rho: Vec<f64> = p.z_down[lo..=hi].iter().map(|z| z - z0).collect();
     let flange = rho
@@ -37,11 +37,11 @@ pub(super) fn wheel_spline(p: &Points) -> Result<Spline, ProfileError> {
             flange * 1e3
         )));
     }
-    Ok(Spline::natural(&p.u[lo..=hi], &rho))
+    natural(p, "wheel", &p.u[lo..=hi], &rho)
 }
 
 /// H(v) = −(z_down − z_top) over the running part; the right rail's v = 0 sits at `rail_y`.
-pub(super) fn rail_spline(p: &Points, t: Track) -> Result<(Spline, f64), ProfileError> {
+pub(super) fn rail_spline(p: &Points, t: Track) -> Result<(CubicSpline, f64), ProfileError> {
     let top = (0..p.u.len())
         .min_by(|&a, &b| p.z_down[a].total_cmp(&p.z_down[b]))
         .expect("profiles have at least 10 points");
@@ -69,7 +69,14 @@ pub(super) fn rail_spline(p: &Points, t: Track) -> Result<(Spline, f64), Profile
     }
     let v: Vec<f64> = p.u[lo..=hi].iter().map(|u| u - gauge_u).collect();
     let h: Vec<f64> = p.z_down[lo..=hi].iter().map(|z| z_top - z).collect();
-    Ok((Spline::natural(&v, &h), 0.5 * t.gauge))
+    Ok((natural(p, "rail", &v, &h)?, 0.5 * t.gauge))
+}
+
+/// The natural spline through the running part of profile `p` (`what`: wheel or rail); the
+/// points were checked when read, so an error here names the profile and the spline's rule.
+fn natural(p: &Points, what: &str, u: &[f64], z: &[f64]) -> Result<CubicSpline, ProfileError> {
+    CubicSpline::natural(u, z)
+        .map_err(|e| p.shape_error(format!("the {what} running surface cannot be splined: {e}")))
 }
 
 /// The lateral position where the profile between points k−1 and k reaches depth `target`:

@@ -21,7 +21,7 @@ use nalgebra::{Matrix4, Vector4};
 use super::geometry::{ContactPoint, GeometryError, Nominal};
 use super::placement::{rail_spline, wheel_spline};
 use super::profile::{Points, ProfileError};
-use super::spline_natural::Spline;
+use super::spline::CubicSpline;
 use crate::system::scalar::{Dual, Scalar};
 
 /// Wheel sampling step of the global gap scan (m).
@@ -48,9 +48,9 @@ pub struct Track {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProfilePair {
     /// wheel radius increment ρ(u) = r − r0 (m) against the outward offset u (m)
-    wheel: Spline,
+    wheel: CubicSpline,
     /// rail height H(v) (m, 0 at the top) against the outward offset v (m)
-    rail: Spline,
+    rail: CubicSpline,
     /// track Y of the right rail's v = 0 (m)
     rail_y: f64,
     /// wheel scan samples (u, ρ)

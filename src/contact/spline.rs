@@ -1,34 +1,79 @@
-//! Interpolating cubic spline with the not-a-knot end condition (C², exact for cubics).
+//! Interpolating C² cubic spline with a choice of end conditions, evaluated generically
+//! (value, slope, curvature) so that dual numbers carry exact derivatives.
 //!
-//! Through points $(x_i, v_i)$, $i = 0..n-1$, with strictly increasing $x_i$ (n ≥ 4), the
-//! spline is the piecewise cubic Hermite interpolant whose node slopes $s_i$ solve
+//! Through points $(x_i, v_i)$, $i = 0..n-1$, with strictly increasing $x_i$, the spline is
+//! the piecewise cubic Hermite interpolant whose node slopes $s_i$ solve
 //!
 //! $$h_i s_{i-1} + 2(h_{i-1} + h_i) s_i + h_{i-1} s_{i+1} = 3(h_i Δ_{i-1} + h_{i-1} Δ_i)$$
 //!
 //! at the interior nodes ($h_i = x_{i+1} − x_i$, $Δ_i = (v_{i+1} − v_i)/h_i$): continuity of
-//! the second derivative. The two missing equations are de Boor's *not-a-knot* conditions
-//! (the third derivative is continuous at $x_1$ and $x_{n-2}$), under which every cubic
-//! polynomial is reproduced exactly; natural end conditions (zero curvature) would not.
+//! the second derivative. The two missing equations are the [`EndCondition`]:
 //!
-//! The not-a-knot rows are not diagonally dominant. Subtracting each from its neighbouring
-//! interior row eliminates $s_0$ and $s_{n-1}$ and leaves a strictly diagonally dominant
-//! tridiagonal system for $s_1 … s_{n-2}$, solved by the Thomas algorithm without pivoting;
-//! $s_0$ and $s_{n-1}$ then follow from the not-a-knot rows.
+//! * **natural** (zero curvature at both ends, n ≥ 3): $2 s_0 + s_1 = 3 Δ_0$ and
+//!   $s_{n-2} + 2 s_{n-1} = 3 Δ_{n-2}$. The system is strictly diagonally dominant and is
+//!   solved as it stands. Used for the wheel and rail profile curves.
+//! * **not-a-knot** (de Boor: the third derivative is continuous at $x_1$ and $x_{n-2}$,
+//!   n ≥ 4): every cubic polynomial is reproduced exactly, which natural ends would not do.
+//!   These rows, $h_1 s_0 + (h_0 + h_1) s_1 = r_0$ and its mirror image, are not diagonally
+//!   dominant; subtracting each from its neighbouring interior row eliminates $s_0$ and
+//!   $s_{n-1}$ and leaves a strictly diagonally dominant system for $s_1 … s_{n-2}$, after
+//!   which $s_0$ and $s_{n-1}$ follow from the end rows. Used for tabulated contact geometry.
+//!
+//! Both are solved by the same Thomas algorithm without pivoting. Each interval then stores
+//! its cubic as $S = a + b t + c t^2 + d t^3$, $t = x − x_k$ (so the data and the node slopes
+//! are reproduced exactly at the left end of every interval). Beyond the end knots the end
+//! cubic is continued; callers check that they stay inside.
 
-/// A cubic spline: knots, values and exact slopes at the knots (Hermite form).
+use crate::system::scalar::Scalar;
+
+#[cfg(test)]
+mod tests;
+
+/// How the two equations missing at the ends of the slope system are closed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EndCondition {
+    /// Zero second derivative at the first and last knot (needs at least 3 points).
+    Natural,
+    /// Third derivative continuous at the second and second-to-last knot; reproduces cubic
+    /// polynomials exactly (needs at least 4 points).
+    NotAKnot,
+}
+
+impl EndCondition {
+    /// The fewest points the end condition can close.
+    pub fn min_points(self) -> usize {
+        match self {
+            Self::Natural => 3,
+            Self::NotAKnot => 4,
+        }
+    }
+}
+
+impl std::fmt::Display for EndCondition {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Natural => "natural",
+            Self::NotAKnot => "not-a-knot",
+        })
+    }
+}
+
+/// A C² cubic spline: knots, data values and the cubic of each interval.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CubicSpline {
     x: Vec<f64>,
     v: Vec<f64>,
-    s: Vec<f64>,
+    /// per interval k: `[a, b, c, d]` of `a + b t + c t² + d t³`, `t = x − x_k`
+    coef: Vec<[f64; 4]>,
+    end: EndCondition,
 }
 
 /// Why a spline could not be built (the caller names the file and column).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SplineError {
-    /// Fewer than four points.
-    #[error("{points} points; the not-a-knot spline needs at least 4")]
-    TooFewPoints { points: usize },
+    /// Fewer points than the end condition needs.
+    #[error("{points} points; the {end} spline needs at least {}", end.min_points())]
+    TooFewPoints { points: usize, end: EndCondition },
     /// The abscissae are not strictly increasing (index of the offending point).
     #[error("x[{index}] = {x:e} does not exceed the previous value {previous:e}")]
     NotIncreasing { index: usize, x: f64, previous: f64 },
@@ -38,11 +83,12 @@ pub enum SplineError {
 }
 
 impl CubicSpline {
-    /// The not-a-knot spline through `(x[i], v[i])`.
-    pub fn new(x: &[f64], v: &[f64]) -> Result<Self, SplineError> {
+    /// The spline through `(x[i], v[i])` (the shorter slice sets the count) with end
+    /// condition `end`.
+    pub fn new(x: &[f64], v: &[f64], end: EndCondition) -> Result<Self, SplineError> {
         let n = x.len().min(v.len());
-        if n < 4 {
-            return Err(SplineError::TooFewPoints { points: n });
+        if n < end.min_points() {
+            return Err(SplineError::TooFewPoints { points: n, end });
         }
         for i in 0..n {
             if !(x[i].is_finite() && v[i].is_finite()) {
@@ -61,8 +107,36 @@ impl CubicSpline {
             }
         }
         let (x, v) = (x[..n].to_vec(), v[..n].to_vec());
-        let s = not_a_knot_slopes(&x, &v);
-        Ok(Self { x, v, s })
+        let s = slopes(&x, &v, end);
+        let coef = (0..n - 1)
+            .map(|k| {
+                let h = x[k + 1] - x[k];
+                let d = (v[k + 1] - v[k]) / h;
+                let (s0, s1) = (s[k], s[k + 1]);
+                [
+                    v[k],
+                    s0,
+                    (3.0 * d - 2.0 * s0 - s1) / h,
+                    (s0 + s1 - 2.0 * d) / (h * h),
+                ]
+            })
+            .collect();
+        Ok(Self { x, v, coef, end })
+    }
+
+    /// The not-a-knot spline through `(x[i], v[i])`.
+    pub fn not_a_knot(x: &[f64], v: &[f64]) -> Result<Self, SplineError> {
+        Self::new(x, v, EndCondition::NotAKnot)
+    }
+
+    /// The natural spline through `(x[i], v[i])`.
+    pub fn natural(x: &[f64], v: &[f64]) -> Result<Self, SplineError> {
+        Self::new(x, v, EndCondition::Natural)
+    }
+
+    /// The end condition the spline was built with.
+    pub fn end_condition(&self) -> EndCondition {
+        self.end
     }
 
     /// The first and last knot.
@@ -75,69 +149,101 @@ impl CubicSpline {
         (&self.x, &self.v)
     }
 
-    /// Value and first derivative at `t`; beyond the knots the end cubic is continued.
-    pub fn eval(&self, t: f64) -> (f64, f64) {
-        let n = self.x.len();
-        let k = self.x.partition_point(|&xi| xi <= t).clamp(1, n - 1) - 1;
-        let h = self.x[k + 1] - self.x[k];
-        let u = (t - self.x[k]) / h;
-        let (u2, u3) = (u * u, u * u * u);
-        let (p0, p1) = (self.v[k], self.v[k + 1]);
-        let (m0, m1) = (self.s[k] * h, self.s[k + 1] * h);
-        let value = (2.0 * u3 - 3.0 * u2 + 1.0) * p0
-            + (u3 - 2.0 * u2 + u) * m0
-            + (3.0 * u2 - 2.0 * u3) * p1
-            + (u3 - u2) * m1;
-        let slope = ((6.0 * u2 - 6.0 * u) * (p0 - p1)
-            + (3.0 * u2 - 4.0 * u + 1.0) * m0
-            + (3.0 * u2 - 2.0 * u) * m1)
-            / h;
-        (value, slope)
+    /// Interval index containing `x` (clamped to the end intervals; NaN gives the first).
+    #[inline]
+    fn interval(&self, x: f64) -> usize {
+        let k = self.x.partition_point(|&xi| xi <= x);
+        k.saturating_sub(1).min(self.coef.len() - 1)
+    }
+
+    /// Interval index, walking from a hint (fast for monotone sweeps).
+    #[inline]
+    fn interval_from(&self, x: f64, hint: &mut usize) -> usize {
+        let last = self.coef.len() - 1;
+        let mut i = (*hint).min(last);
+        while i > 0 && x < self.x[i] {
+            i -= 1;
+        }
+        while i < last && x >= self.x[i + 1] {
+            i += 1;
+        }
+        *hint = i;
+        i
+    }
+
+    /// Value, first and second derivative at `x`.
+    #[inline]
+    pub fn eval<T: Scalar>(&self, x: T) -> (T, T, T) {
+        self.eval_in(self.interval(x.re()), x)
+    }
+
+    /// Value at `x`, finding the interval by walking from `hint` (updated).
+    #[inline]
+    pub fn value_hint(&self, x: f64, hint: &mut usize) -> f64 {
+        self.eval_in(self.interval_from(x, hint), x).0
+    }
+
+    /// Value, first and second derivative of interval `k`'s cubic at `x`.
+    #[inline]
+    fn eval_in<T: Scalar>(&self, k: usize, x: T) -> (T, T, T) {
+        let [a, b, c, d] = self.coef[k];
+        let t = x - self.x[k];
+        let v = ((t * d + c) * t + b) * t + a;
+        let d1 = (t * (3.0 * d) + 2.0 * c) * t + b;
+        let d2 = t * (6.0 * d) + 2.0 * c;
+        (v, d1, d2)
     }
 }
 
-/// Node slopes of the not-a-knot spline (see the module docs); `x` strictly increasing,
-/// `x.len() == v.len() >= 4`.
-fn not_a_knot_slopes(x: &[f64], v: &[f64]) -> Vec<f64> {
+/// Node slopes (see the module docs); `x` strictly increasing, `x.len() == v.len()` at least
+/// `end.min_points()`.
+fn slopes(x: &[f64], v: &[f64], end: EndCondition) -> Vec<f64> {
     let n = x.len();
     let h: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
     let d: Vec<f64> = (0..n - 1).map(|i| (v[i + 1] - v[i]) / h[i]).collect();
-    // Full rows: not-a-knot row 0: h1 s0 + (h0+h1) s1 = r0; interior rows as in the docs;
-    // not-a-knot row n−1: (h_{n−3}+h_{n−2}) s_{n−2} + h_{n−3} s_{n−1} = r_{n−1}.
-    let (e0, e1) = (h[0] + h[1], h[n - 3] + h[n - 2]);
-    let r0 = ((h[0] + 2.0 * e0) * h[1] * d[0] + h[0] * h[0] * d[1]) / e0;
-    let rn = (h[n - 2] * h[n - 2] * d[n - 3] + (2.0 * e1 + h[n - 2]) * h[n - 3] * d[n - 2]) / e1;
-    let interior = |i: usize| 3.0 * (h[i] * d[i - 1] + h[i - 1] * d[i]);
-    // Reduced system for s_1 … s_{n−2} (m unknowns): lower a, diagonal b, upper c, rhs r.
-    let m = n - 2;
-    let mut a = vec![0.0; m];
-    let mut b = vec![0.0; m];
-    let mut c = vec![0.0; m];
-    let mut r = vec![0.0; m];
-    for j in 0..m {
-        let i = j + 1;
-        a[j] = h[i];
-        b[j] = 2.0 * (h[i - 1] + h[i]);
-        c[j] = h[i - 1];
-        r[j] = interior(i);
+    // All n rows: lower a, diagonal b, upper c, right-hand side r.
+    let mut a = vec![0.0; n];
+    let mut b = vec![0.0; n];
+    let mut c = vec![0.0; n];
+    let mut r = vec![0.0; n];
+    for i in 1..n - 1 {
+        a[i] = h[i];
+        b[i] = 2.0 * (h[i - 1] + h[i]);
+        c[i] = h[i - 1];
+        r[i] = 3.0 * (h[i] * d[i - 1] + h[i - 1] * d[i]);
     }
-    // Row 1 minus row 0 removes s0; row n−2 minus row n−1 removes s_{n−1}.
-    b[0] -= e0;
-    r[0] -= r0;
-    a[0] = 0.0;
-    b[m - 1] -= e1;
-    r[m - 1] -= rn;
-    c[m - 1] = 0.0;
-    let s_inner = thomas(&a, &b, &c, &r);
-    let mut s = vec![0.0; n];
-    s[1..n - 1].copy_from_slice(&s_inner);
-    s[0] = (r0 - e0 * s[1]) / h[1];
-    s[n - 1] = (rn - e1 * s[n - 2]) / h[n - 3];
-    s
+    match end {
+        EndCondition::Natural => {
+            (b[0], c[0], r[0]) = (2.0, 1.0, 3.0 * d[0]);
+            (a[n - 1], b[n - 1], r[n - 1]) = (1.0, 2.0, 3.0 * d[n - 2]);
+            thomas(&a, &b, &c, &r)
+        }
+        EndCondition::NotAKnot => {
+            // not-a-knot row 0: h1 s0 + e0 s1 = r0; row n−1: e1 s_{n−2} + h_{n−3} s_{n−1} = rn
+            let (e0, e1) = (h[0] + h[1], h[n - 3] + h[n - 2]);
+            let r0 = ((h[0] + 2.0 * e0) * h[1] * d[0] + h[0] * h[0] * d[1]) / e0;
+            let rn =
+                (h[n - 2] * h[n - 2] * d[n - 3] + (2.0 * e1 + h[n - 2]) * h[n - 3] * d[n - 2]) / e1;
+            // Row 1 minus row 0 removes s0; row n−2 minus row n−1 removes s_{n−1}.
+            let m = n - 1;
+            b[1] -= e0;
+            r[1] -= r0;
+            a[1] = 0.0;
+            b[m - 1] -= e1;
+            r[m - 1] -= rn;
+            c[m - 1] = 0.0;
+            let inner = thomas(&a[1..m], &b[1..m], &c[1..m], &r[1..m]);
+            let mut s = vec![0.0; n];
+            s[1..m].copy_from_slice(&inner);
+            s[0] = (r0 - e0 * s[1]) / h[1];
+            s[m] = (rn - e1 * s[m - 1]) / h[n - 3];
+            s
+        }
+    }
 }
 
 /// Thomas algorithm for a diagonally dominant tridiagonal system (a: lower, b: diagonal,
-/// c: upper, r: right-hand side).
+/// c: upper, r: right-hand side; `a[0]` and the last `c` are not used).
 fn thomas(a: &[f64], b: &[f64], c: &[f64], r: &[f64]) -> Vec<f64> {
     let m = b.len();
     let mut cp = vec![0.0; m];
@@ -155,72 +261,4 @@ fn thomas(a: &[f64], b: &[f64], c: &[f64], r: &[f64]) -> Vec<f64> {
         s[j] = rp[j] - cp[j] * s[j + 1];
     }
     s
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn cubic(t: f64) -> (f64, f64) {
-        (
-            0.3 - 2.0 * t + 5.0 * t * t - 7.0 * t * t * t,
-            -2.0 + 10.0 * t - 21.0 * t * t,
-        )
-    }
-
-    /// Irregular knots, 4 to 9 of them.
-    fn knots(n: usize) -> Vec<f64> {
-        (0..n)
-            .map(|i| -1.0 + 0.3 * i as f64 + 0.05 * ((i * i) % 3) as f64)
-            .collect()
-    }
-
-    #[test]
-    fn reproduces_a_cubic_exactly() {
-        for n in 4..10 {
-            let x = knots(n);
-            let v: Vec<f64> = x.iter().map(|&t| cubic(t).0).collect();
-            let sp = CubicSpline::new(&x, &v).expect("valid knots");
-            for k in 0..=40 {
-                let t = x[0] + (x[n - 1] - x[0]) * k as f64 / 40.0;
-                let (val, der) = sp.eval(t);
-                let (ev, ed) = cubic(t);
-                assert!((val - ev).abs() < 1e-12, "n={n} t={t}: {val} vs {ev}");
-                assert!((der - ed).abs() < 1e-11, "n={n} t={t}: {der} vs {ed}");
-            }
-        }
-    }
-
-    #[test]
-    fn interpolates_and_is_c2() {
-        let x = knots(9);
-        let v: Vec<f64> = x.iter().map(|&t| (3.0 * t).sin()).collect();
-        let sp = CubicSpline::new(&x, &v).expect("valid knots");
-        for (xi, vi) in x.iter().zip(&v) {
-            assert!((sp.eval(*xi).0 - vi).abs() < 1e-15);
-        }
-        // second derivative continuous at interior knots: compare one-sided differences
-        let eps = 1e-6;
-        for &xi in &x[1..8] {
-            let left = (sp.eval(xi - eps).1 - sp.eval(xi - 2.0 * eps).1) / eps;
-            let right = (sp.eval(xi + 2.0 * eps).1 - sp.eval(xi + eps).1) / eps;
-            assert!((left - right).abs() < 1e-3 * left.abs().max(1.0), "{xi}");
-        }
-    }
-
-    #[test]
-    fn rejects_bad_input() {
-        assert_eq!(
-            CubicSpline::new(&[0.0, 1.0, 2.0], &[0.0; 3]),
-            Err(SplineError::TooFewPoints { points: 3 })
-        );
-        assert!(matches!(
-            CubicSpline::new(&[0.0, 1.0, 1.0, 2.0], &[0.0; 4]),
-            Err(SplineError::NotIncreasing { index: 2, .. })
-        ));
-        assert!(matches!(
-            CubicSpline::new(&[0.0, 1.0, 2.0, 3.0], &[0.0, f64::NAN, 0.0, 0.0]),
-            Err(SplineError::NotFinite { index: 1, .. })
-        ));
-    }
 }

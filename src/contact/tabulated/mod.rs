@@ -107,7 +107,7 @@ impl TabulatedGeometry {
             });
         }
         let spline = |column: &'static str, v: &[f64]| {
-            CubicSpline::new(y, v).map_err(|source| TabulatedError::Spline {
+            CubicSpline::not_a_knot(y, v).map_err(|source| TabulatedError::Spline {
                 path: origin.into(),
                 column,
                 source,
@@ -198,7 +198,7 @@ impl TabulatedGeometry {
     /// The right wheel's contact point at `y` with exact spline slopes.
     pub fn point(&self, y: f64) -> ContactPoint<Dual<1>> {
         let d = |s: &CubicSpline| {
-            let (re, eps) = s.eval(y);
+            let (re, eps, _) = s.eval(y);
             Dual { re, eps: [eps] }
         };
         ContactPoint {
@@ -237,7 +237,7 @@ impl TabulatedGeometry {
     pub fn semi_axes(&self, y: f64, normal: Dual<1>) -> Option<(Dual<1>, Dual<1>)> {
         let (sa, sb) = self.semi_axes.as_ref()?;
         let d = |s: &CubicSpline| {
-            let (re, eps) = s.eval(y);
+            let (re, eps, _) = s.eval(y);
             Dual { re, eps: [eps] }
         };
         let (a, b) = (d(sa), d(sb));
@@ -264,7 +264,7 @@ impl TabulatedGeometry {
     ) -> Option<Result<CreepCoefficients<Dual<1>>, KalkerError>> {
         let [s11, s22, s23] = self.kalker.as_ref()?;
         let d = |s: &CubicSpline| {
-            let (re, eps) = s.eval(y);
+            let (re, eps, _) = s.eval(y);
             Dual { re, eps: [eps] }
         };
         let c33 = match &self.c33 {
