@@ -134,9 +134,9 @@ fn is_c2_at_interior_knots() {
     let x = knots(9);
     let v: Vec<f64> = x.iter().map(|&t| (3.0 * t).sin() + t * t * t).collect();
     for sp in both(&x, &v) {
-        for k in 1..x.len() - 1 {
-            let left = sp.eval_in(k - 1, x[k]);
-            let right = sp.eval_in(k, x[k]);
+        for (k, &xk) in x.iter().enumerate().take(x.len() - 1).skip(1) {
+            let left = sp.eval_in(k - 1, xk);
+            let right = sp.eval_in(k, xk);
             let pairs = [(left.0, right.0), (left.1, right.1), (left.2, right.2)];
             for (j, (l, r)) in pairs.into_iter().enumerate() {
                 assert!(
