@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, Context};
 
+use super::console::{results, status, statusln};
 use super::{table, Cli, Command, Failure};
 use crate::analysis::{self, GeometryReport, LinearReport};
 use crate::bifurcation::BifurcationReport;
@@ -32,9 +33,9 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
             if *json {
                 let text =
                     serde_json::to_string_pretty(&output::linear_json(&report)).map_err(compute)?;
-                println!("{text}");
+                results(&format!("{text}\n"))?;
             } else {
-                print!("{}", table::linear(&plan, &report));
+                results(&table::linear(&plan, &report))?;
             }
             Ok(())
         }
@@ -45,9 +46,9 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
             if *json {
                 let text = serde_json::to_string_pretty(&output::bifurcation_json(&report))
                     .map_err(compute)?;
-                println!("{text}");
+                results(&format!("{text}\n"))?;
             } else {
-                print!("{}", table::bifurcation(&report));
+                results(&table::bifurcation(&report))?;
             }
             Ok(())
         }
@@ -89,13 +90,13 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
             let plan = load(study)?;
             let model = build(&plan)?;
             let g = geometry(&plan, &model, &cli.out)?;
-            print!("{}", table::geometry(&g));
+            results(&table::geometry(&g))?;
             Ok(())
         }
         Command::Check { study } => {
             let plan = load(study)?;
             let sections = super::trade::check_sections(study)?;
-            print!("{}{sections}", table::plan(&plan));
+            results(&format!("{}{sections}", table::plan(&plan)))?;
             Ok(())
         }
     }
@@ -121,7 +122,7 @@ pub(super) fn write(dir: &Path, file: &str, bytes: &[u8]) -> Result<(), Failure>
     let path = output::write(dir, file, bytes)
         .with_context(|| format!("writing {}", dir.join(file).display()))
         .map_err(compute)?;
-    eprintln!("wrote {}", path.display());
+    statusln!("wrote {}", path.display());
     Ok(())
 }
 
@@ -145,7 +146,7 @@ fn linear(plan: &Plan, model: &Wheelset, root: &Path) -> Result<LinearReport, Fa
 
 fn bifurcation(plan: &Plan, model: &Wheelset, root: &Path) -> Result<BifurcationReport, Failure> {
     let opts = plan.bifurcation_options();
-    eprintln!(
+    statusln!(
         "continuing the hunting cycles of '{}' over [{}, {}] m/s (up to {} cycles, amplitude {} mm)",
         plan.name,
         opts.speed_range.0,
@@ -157,12 +158,12 @@ fn bifurcation(plan: &Plan, model: &Wheelset, root: &Path) -> Result<Bifurcation
     let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
     let progress = |k: usize, v: f64, a: f64| {
         if tty && k.is_multiple_of(5) {
-            eprint!(
+            status!(
                 "\r  cycle {k:>4}: V = {v:8.3} m/s, amplitude {:7.3} mm   ",
                 a * 1e3
             );
         } else if !tty && k.is_multiple_of(50) {
-            eprintln!(
+            statusln!(
                 "  cycle {k:>4}: V = {v:8.3} m/s, amplitude {:7.3} mm",
                 a * 1e3
             );
@@ -172,7 +173,7 @@ fn bifurcation(plan: &Plan, model: &Wheelset, root: &Path) -> Result<Bifurcation
         crate::bifurcation::analyse_with_progress(&plan.name, model, &opts, Some(&progress))
             .map_err(|e| compute(anyhow!(e)))?;
     let clear = if tty { "\r" } else { "" };
-    eprintln!(
+    statusln!(
         "{clear}  {} cycles in {:.2} s{}",
         report.cycles.len(),
         started.elapsed().as_secs_f64(),
@@ -218,7 +219,7 @@ fn simulate(
     };
     let mut runs = Vec::new();
     for &v in speeds {
-        eprintln!(
+        statusln!(
             "simulating '{}' at {v} m/s for {duration} s from y(0) = {} mm",
             plan.name,
             y0 * 1e3
@@ -232,7 +233,7 @@ fn simulate(
     write(&dir, "simulate.csv", output::simulate_csv(&runs).as_bytes())?;
     let svg = figures::simulate(&plan.name, &runs).map_err(|e| compute(anyhow!(e)))?;
     write(&dir, "simulate.svg", svg.as_bytes())?;
-    print!("{}", table::simulate(&plan.name, &runs));
+    results(&table::simulate(&plan.name, &runs))?;
     Ok(())
 }
 
@@ -249,18 +250,18 @@ fn run(root: &Path, study: Option<&Path>) -> Result<(), Failure> {
     let plan = match study {
         Some(p) => load(p)?,
         None => {
-            eprintln!("no study given: running the embedded seed study (studies/seed.toml)");
+            statusln!("no study given: running the embedded seed study (studies/seed.toml)");
             study::parse(study::DEFAULT_STUDY, "embedded seed study").map_err(compute)?
         }
     };
     let model = build(&plan)?;
     let g = geometry(&plan, &model, root)?;
-    print!("{}", table::geometry(&g));
+    results(&table::geometry(&g))?;
     let report = linear(&plan, &model, root)?;
-    print!("{}", table::linear(&plan, &report));
+    results(&table::linear(&plan, &report))?;
     if plan.bifurcation.is_some() {
         let b = bifurcation(&plan, &model, root)?;
-        print!("{}", table::bifurcation(&b));
+        results(&table::bifurcation(&b))?;
     }
     Ok(())
 }

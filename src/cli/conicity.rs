@@ -6,6 +6,7 @@ use anyhow::anyhow;
 use serde_json::json;
 
 use super::commands::{argument, build, compute, load, user, write};
+use super::console::{self, statusln};
 use super::Failure;
 use crate::conicity::{Conicity, DeltaR};
 use crate::figures;
@@ -72,7 +73,7 @@ pub fn run(a: &ConicityArgs, root: &Path) -> Result<(), Failure> {
             Ok(c) => results.push(c),
             // explicit amplitudes must all work; the default list stops at the table's end
             Err(e) if !a.amplitudes.is_empty() => return Err(user(anyhow!(e))),
-            Err(e) => eprintln!("  {:.1} mm: {e}", amp * 1e3),
+            Err(e) => statusln!("  {:.1} mm: {e}", amp * 1e3),
         }
     }
     if results.is_empty() {
@@ -95,22 +96,24 @@ pub fn run(a: &ConicityArgs, root: &Path) -> Result<(), Failure> {
             "amplitude_m": results.iter().map(|c| c.amplitude_m).collect::<Vec<_>>(),
             "equivalent_conicity": results.iter().map(|c| c.conicity).collect::<Vec<_>>(),
         });
-        println!("{}", serde_json::to_string_pretty(&j).map_err(compute)?);
+        let text = serde_json::to_string_pretty(&j).map_err(compute)?;
+        console::results(&format!("{text}\n"))?;
     } else {
-        println!(
-            "\n'{name}': equivalent conicity (EN 15302, wavelength of the kinematic oscillation)"
+        let mut text = format!(
+            "\n'{name}': equivalent conicity (EN 15302, wavelength of the kinematic oscillation)\n"
         );
-        println!(
-            "  centre (Δr = 0) at {:.4} mm",
+        text += &format!(
+            "  centre (Δr = 0) at {:.4} mm\n",
             table.centre().map_err(user)? * 1e3
         );
         for c in &results {
-            println!(
-                "  amplitude {:6.2} mm: {:.4}",
+            text += &format!(
+                "  amplitude {:6.2} mm: {:.4}\n",
                 c.amplitude_m * 1e3,
                 c.conicity
             );
         }
+        console::results(&text)?;
     }
     Ok(())
 }

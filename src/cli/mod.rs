@@ -4,6 +4,7 @@
 
 mod commands;
 mod conicity;
+mod console;
 mod ramp;
 mod sweep;
 mod table;
@@ -13,6 +14,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+
+use console::statusln;
 
 /// critspeed: the speed at which a railway wheelset starts to hunt.
 #[derive(Debug, Parser)]
@@ -121,11 +124,11 @@ pub fn main() -> ExitCode {
     match commands::dispatch(&cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::User(e)) => {
-            eprintln!("error: {e:#}");
+            statusln!("error: {e:#}");
             ExitCode::from(2)
         }
         Err(Failure::Compute(e)) => {
-            eprintln!("computation failed: {e:#}");
+            statusln!("computation failed: {e:#}");
             ExitCode::from(1)
         }
     }

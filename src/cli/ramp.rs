@@ -6,6 +6,7 @@ use anyhow::anyhow;
 use serde_json::{json, Value};
 
 use super::commands::{argument, build, compute, load, out_dir, user, write};
+use super::console::{results, statusln};
 use super::Failure;
 use crate::contact::creep::CreepLaw;
 use crate::figures;
@@ -168,9 +169,9 @@ pub fn run(a: &RampArgs, root: &Path) -> Result<(), Failure> {
     o.threshold = argument("--threshold", &a.threshold, Dimension::Length)?;
     o.validate().map_err(user)?;
     if model.creep_law == CreepLaw::Kalker {
-        eprintln!("note: with Kalker's unbounded creep law no limit cycle exists; the ramp tells only growth or decay");
+        statusln!("note: with Kalker's unbounded creep law no limit cycle exists; the ramp tells only growth or decay");
     }
-    eprintln!(
+    statusln!(
         "ramp '{}': settle {} s at {:.3} m/s, then -{:.4} m/s^2 to {:.3} m/s{}",
         plan.name,
         o.settle,
@@ -192,7 +193,7 @@ pub fn run(a: &RampArgs, root: &Path) -> Result<(), Failure> {
     } else {
         (ramp(&model, &o).map_err(compute)?, None)
     };
-    eprintln!("  done in {:.1} s", started.elapsed().as_secs_f64());
+    statusln!("  done in {:.1} s", started.elapsed().as_secs_f64());
     let mut j = result_json(&result);
     j["study"] = json!(plan.name);
     if let Some(c) = &conv {
@@ -209,9 +210,9 @@ pub fn run(a: &RampArgs, root: &Path) -> Result<(), Failure> {
     let svg = figures::ramp(&plan.name, &result).map_err(|e| compute(anyhow!(e)))?;
     write(&dir, "ramp.svg", svg.as_bytes())?;
     if a.json {
-        println!("{text}");
+        results(&format!("{text}\n"))?;
     } else {
-        print!("{}", table(&plan.name, &result, conv.as_ref()));
+        results(&table(&plan.name, &result, conv.as_ref()))?;
     }
     Ok(())
 }

@@ -7,6 +7,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use anyhow::anyhow;
 
 use super::commands::{compute, user, write};
+use super::console::{results, status, statusln};
 use super::Failure;
 use crate::figures;
 use crate::output;
@@ -80,7 +81,7 @@ fn progress_line(p: &Progress) -> String {
 /// Runs `critspeed sweep`.
 pub fn run(args: &SweepArgs, root: &Path) -> Result<(), Failure> {
     if let Some((study, rows)) = compute_points(args, root)? {
-        print!("{}", summary(&study, &rows));
+        results(&summary(&study, &rows))?;
     }
     Ok(())
 }
@@ -114,15 +115,18 @@ pub(super) fn compute_points(
                 points: r.points,
             }));
         }
-        eprintln!(
+        statusln!(
             "resuming: {} of {mine} points already in {}",
             r.rows.len(),
             records.display()
         );
     }
-    eprintln!(
+    statusln!(
         "sweep of '{}': {total} points, shard {}/{} computes {mine}, fingerprint {}",
-        study.base.name, shard.index, shard.count, study.fingerprint
+        study.base.name,
+        shard.index,
+        shard.count,
+        study.fingerprint
     );
     let tty = std::io::stderr().is_terminal();
     let last = AtomicU64::new(0);
@@ -133,9 +137,9 @@ pub(super) fn compute_points(
         if p.done == p.todo || ms >= prev + period {
             last.store(ms, Ordering::Relaxed);
             if tty {
-                eprint!("\r{}   ", progress_line(p));
+                status!("\r{}   ", progress_line(p));
             } else {
-                eprintln!("{}", progress_line(p));
+                statusln!("{}", progress_line(p));
             }
         }
     };
@@ -146,10 +150,10 @@ pub(super) fn compute_points(
     };
     let res = sweep::run(&study, &opts, Some(&report)).map_err(failure)?;
     if tty && res.computed > 0 {
-        eprintln!();
+        statusln!();
     }
     let failed = res.rows.iter().filter(|r| !r.ok()).count();
-    eprintln!(
+    statusln!(
         "{} points finished ({} this run, {} resumed), {failed} failed; records in {}",
         res.rows.len(),
         res.computed,
@@ -157,7 +161,7 @@ pub(super) fn compute_points(
         records.display()
     );
     if shard != Shard::ALL {
-        eprintln!(
+        statusln!(
             "shard {}/{} done; join the shards with `critspeed merge {}`",
             shard.index,
             shard.count,
@@ -245,13 +249,13 @@ pub fn merge(args: &MergeArgs, root: &Path) -> Result<(), Failure> {
         )));
     }
     for f in &files {
-        eprintln!("reading {}", f.display());
+        statusln!("reading {}", f.display());
     }
     let m = sweep::merge(&study, &files).map_err(failure)?;
     let total = study.spec.len();
     if !m.missing.is_empty() {
         let list: Vec<String> = m.missing.iter().take(20).map(usize::to_string).collect();
-        eprintln!(
+        statusln!(
             "{} of {total} points missing: {}{}",
             m.missing.len(),
             list.join(", "),
@@ -264,9 +268,9 @@ pub fn merge(args: &MergeArgs, root: &Path) -> Result<(), Failure> {
             )));
         }
     } else {
-        eprintln!("all {total} points present in {} files", files.len());
+        statusln!("all {total} points present in {} files", files.len());
     }
     finish(&study, &dir, &m.rows)?;
-    print!("{}", summary(&study, &m.rows));
+    results(&summary(&study, &m.rows))?;
     Ok(())
 }

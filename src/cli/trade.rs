@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, Context};
 
 use super::commands::{load, out_dir, user, write};
+use super::console::results;
 use super::Failure;
 use crate::study::schema::StudyFile;
 use crate::trade::{self, report};
@@ -75,9 +76,9 @@ pub fn run(a: &TradeArgs, root: &Path) -> Result<(), Failure> {
     if a.json {
         let j = report::json(&plan.name, &tp, &rows, &verdicts);
         let s = serde_json::to_string_pretty(&j).map_err(super::commands::compute)?;
-        println!("{s}");
+        results(&format!("{s}\n"))?;
     } else {
-        print!("{}", report::summary(&plan.name, &tp, &rows, &verdicts));
+        results(&report::summary(&plan.name, &tp, &rows, &verdicts))?;
     }
     Ok(())
 }
