@@ -6,7 +6,6 @@
 //! case runs the fast Kalker `linear` command on the seed study.
 
 mod common;
-use std::io::Read;
 use std::process::{Command, Output, Stdio};
 
 use common::{root, scratch};
@@ -17,34 +16,28 @@ fn seed() -> String {
     root().join("studies/seed.toml").display().to_string()
 }
 
-/// Spawns `critspeed args` in the scratch folder `name` with stdout and stderr piped, closes the read end of the pipe
-/// chosen by `close_stdout` at once (before the program writes), and collects the other.
+/// Runs `critspeed args` in the scratch folder `name` with stdout (`close_stdout`) or stderr
+/// writing into a pipe whose read end is already closed, so that every write to it fails with
+/// a broken pipe; returns the output and the other stream's text.
 fn with_dropped_reader(name: &str, args: &[&str], close_stdout: bool) -> (Output, String) {
     let dir = scratch(name);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_critspeed"))
-        .args(args)
-        .current_dir(&dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    let (closed, mut open): (Box<dyn std::any::Any>, Box<dyn Read>) = if close_stdout {
-        (
-            Box::new(child.stdout.take().expect("piped")),
-            Box::new(child.stderr.take().expect("piped")),
-        )
+    let (reader, writer) = std::io::pipe().expect("a pipe");
+    drop(reader);
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_critspeed"));
+    cmd.args(args).current_dir(&dir);
+    if close_stdout {
+        cmd.stdout(writer).stderr(Stdio::piped());
     } else {
-        (
-            Box::new(child.stderr.take().expect("piped")),
-            Box::new(child.stdout.take().expect("piped")),
-        )
+        cmd.stdout(Stdio::piped()).stderr(writer);
+    }
+    let out = cmd.output().expect("the binary runs");
+    let open = if close_stdout {
+        &out.stderr
+    } else {
+        &out.stdout
     };
-    drop(closed);
-    let mut text = String::new();
-    open.read_to_string(&mut text)
-        .expect("read the open stream");
-    let output = child.wait_with_output().expect("the binary finishes");
-    (output, text)
+    let text = String::from_utf8_lossy(open).into_owned();
+    (out, text)
 }
 
 #[test]
