@@ -1,6 +1,11 @@
 //! The command line: clap definitions, and the commands as functions returning a [`Failure`].
 //!
 //! Exit codes: 0 success, 2 user error (bad file, bad argument), 1 computation failure.
+//!
+//! Output goes through the `console` module only: `print!`/`eprint!` panic on a closed stream, and
+//! clippy refuses them here.
+
+#![deny(clippy::print_stdout, clippy::print_stderr)]
 
 mod commands;
 mod conicity;
