@@ -181,6 +181,8 @@ mod tests {
             kalker_frequency_hz: None,
             hopf_frequency_hz: None,
             nonlinear_located: None,
+            above_range: vec![],
+            stable_up_to_m_s: None,
         }
     }
 
