@@ -31,6 +31,7 @@ fn map() -> HeatMap {
         z,
         z_label: "V (m/s)".into(),
         threshold: Some((55.56, "V = 55.6 m/s".into())),
+        above: None,
     }
 }
 

@@ -32,7 +32,30 @@ pub struct HeatMap {
     /// A distinguished contour level and its label, e.g.
     /// `(55.56, "stable above / unstable below: V = 55.6 m/s")`.
     pub threshold: Option<(f64, String)>,
+    /// Cells whose value is only known to exceed a bound (e.g. no onset of hunting up to the
+    /// top of the speed range); `None` = there are none.
+    pub above: Option<AboveRange>,
 }
+
+/// Cells of a [`HeatMap`] whose value lies above a known bound. They are filled in
+/// [`ABOVE_FILL`] (beyond the top of the colour bar, not hatched) and no contour is drawn
+/// through a square touching one, except the threshold contour when the threshold is at or
+/// below the bound: there the cell is known to lie above the threshold, and the contour is
+/// drawn as if its value were the bound. Linear interpolation then puts the crossing at or
+/// beyond where the true (larger) value would put it, i.e. on the side of the above-range cell:
+/// the region drawn below the threshold is never smaller than the interpolated one.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AboveRange {
+    /// One flag per cell, in the order of [`HeatMap::z`]; the cell's `z` should be `None`.
+    pub cells: Vec<bool>,
+    /// The bound the values exceed, in the unit of `z` (e.g. 300 for `"> 300 m/s"`).
+    pub bound: f64,
+    /// Legend and colour-bar text, e.g. `"> 300 m/s (no onset in range)"`.
+    pub label: String,
+}
+
+/// Fill of above-range cells: a pale pink, outside the viridis range and unlike the grey hatch.
+pub const ABOVE_FILL: &str = "#f4b6d2";
 
 const W: f64 = 880.0;
 const H: f64 = 600.0;
@@ -95,14 +118,46 @@ fn validate(h: &HeatMap) -> Result<(f64, f64), PlotError> {
     if let Some((t, _)) = h.threshold.as_ref().filter(|(t, _)| !t.is_finite()) {
         return Err(invalid(h, format!("threshold {t} is not finite")));
     }
+    if let Some(a) = &h.above {
+        if a.cells.len() != n || !a.bound.is_finite() {
+            let rule = format!(
+                "above-range cells: {} flags (x × y needs {n}) and bound {} (must be finite)",
+                a.cells.len(),
+                a.bound
+            );
+            return Err(invalid(h, rule));
+        }
+    }
     let finite = h.z.iter().flatten().filter(|v| v.is_finite());
     let range = finite.fold(None, |acc: Option<(f64, f64)>, &v| match acc {
         None => Some((v, v)),
         Some((a, b)) => Some((a.min(v), b.max(v))),
     });
-    range.ok_or_else(|| PlotError::Empty {
-        title: h.title.clone(),
-    })
+    // a map of above-range cells only is still a result: scale up to the bound
+    let bound = h.above.as_ref().filter(|a| a.cells.contains(&true));
+    range
+        .or_else(|| bound.map(|a| (a.bound, a.bound)))
+        .ok_or_else(|| PlotError::Empty {
+            title: h.title.clone(),
+        })
+}
+
+/// Whether cell `k` is above range.
+fn is_above(h: &HeatMap, k: usize) -> bool {
+    h.above
+        .as_ref()
+        .is_some_and(|a| a.cells.get(k).copied().unwrap_or(false))
+}
+
+/// The values the threshold contour is drawn through: `z`, with above-range cells at the
+/// bound when the threshold `t` is at or below it (see [`AboveRange`]).
+fn threshold_z(h: &HeatMap, t: f64) -> Vec<Option<f64>> {
+    match &h.above {
+        Some(a) if t <= a.bound => (h.z.iter().enumerate())
+            .map(|(k, z)| if is_above(h, k) { Some(a.bound) } else { *z })
+            .collect(),
+        _ => h.z.clone(),
+    }
 }
 
 /// Cell boundaries around each node: midpoints (geometric on a log axis), half a step
@@ -179,10 +234,11 @@ pub fn heat_map_svg(h: &HeatMap) -> Result<String, PlotError> {
     let levels = contour_levels(zlo, zhi);
     let mut contours: Vec<Contour> = levels
         .iter()
-        .map(|&l| Contour::new(h, (&xm, &ym), l, false))
+        .map(|&l| Contour::new(h, &h.z, (&xm, &ym), l, false))
         .collect();
     if let Some((t, _)) = &h.threshold {
-        contours.push(Contour::new(h, (&xm, &ym), *t, true));
+        let z = threshold_z(h, *t);
+        contours.push(Contour::new(h, &z, (&xm, &ym), *t, true));
     }
     // the threshold's label is placed first, the others where they do not collide
     let mut placed = Vec::new();
@@ -217,7 +273,8 @@ pub fn heat_map_svg(h: &HeatMap) -> Result<String, PlotError> {
     Ok(doc.finish())
 }
 
-/// Cells around each node coloured by its value, failed ones hatched; returns how many failed.
+/// Cells around each node coloured by its value, above-range ones in [`ABOVE_FILL`], failed
+/// ones hatched; returns how many failed.
 fn draw_cells(
     doc: &mut Doc,
     h: &HeatMap,
@@ -233,6 +290,7 @@ fn draw_cells(
         let b = (xm.px(ex[i + 1]), ym.px(ey[j + 1]));
         let fill = match z.filter(|v| v.is_finite()) {
             Some(v) => hex(viridis((v - zlo) / (zhi - zlo))),
+            None if is_above(h, k) => ABOVE_FILL.to_string(),
             None => {
                 failed += 1;
                 "url(#failed)".to_string()
@@ -293,6 +351,7 @@ fn colour_bar(doc: &mut Doc, h: &HeatMap, (lo, hi): (f64, f64), levels: &[f64]) 
         let y = bar.px(*t);
         doc.polyline(&[(BAR_X - 4.0, y), (BAR_X + 22.0, y)], THRESHOLD, 3.0, None);
     }
+    above_box(doc, h, top);
     let mid = (top + bottom) / 2.0;
     doc.text(BAR_X + 80.0, mid, LABEL_PX, "middle", 90.0, &h.z_label);
 }
@@ -303,7 +362,7 @@ fn legend(doc: &mut Doc, h: &HeatMap, failed: usize) {
         doc.polyline(&[(x, y), (x + 26.0, y)], THRESHOLD, 3.0, Some("9 5"));
         let text = format!("threshold {}", format_value(*t));
         doc.text(x + 32.0, y + 4.0, TICK_PX, "start", 0.0, &text);
-        if contour_lines(&h.x, &h.y, &h.z, *t).is_empty() {
+        if contour_lines(&h.x, &h.y, &threshold_z(h, *t), *t).is_empty() {
             y += 16.0;
             let note = "(not reached on this map)";
             doc.text(x + 32.0, y + 4.0, TICK_PX - 2.0, "start", 0.0, note);
@@ -319,5 +378,40 @@ fn legend(doc: &mut Doc, h: &HeatMap, failed: usize) {
         );
         let text = format!("failed point ({failed})");
         doc.text(x + 32.0, y + 4.0, TICK_PX, "start", 0.0, &text);
+        y += 22.0;
     }
+    let above = (0..h.z.len()).filter(|&k| is_above(h, k)).count();
+    if let Some(a) = h.above.as_ref().filter(|_| above > 0) {
+        doc.rect((x, y - 7.0), (x + 26.0, y + 7.0), ABOVE_FILL, Some("#555555"));
+        let (head, note) = split_label(&a.label);
+        let text = format!("{head} ({above})");
+        doc.text(x + 32.0, y + 4.0, TICK_PX, "start", 0.0, &text);
+        if let Some(note) = note {
+            doc.text(x + 32.0, y + 18.0, TICK_PX - 2.0, "start", 0.0, note);
+        }
+    }
+}
+
+/// `"> 300 m/s (no onset in range)"` → (`"> 300 m/s"`, `Some("(no onset in range)")`).
+fn split_label(label: &str) -> (&str, Option<&str>) {
+    match label.find(" (") {
+        Some(i) => (&label[..i], Some(&label[i + 1..])),
+        None => (label, None),
+    }
+}
+
+/// The above-range entry of the colour bar: a box of [`ABOVE_FILL`] over its top.
+fn above_box(doc: &mut Doc, h: &HeatMap, top: f64) {
+    let Some(a) = &h.above else { return };
+    if !a.cells.contains(&true) {
+        return;
+    }
+    doc.rect(
+        (BAR_X, top - 24.0),
+        (BAR_X + 18.0, top - 40.0),
+        ABOVE_FILL,
+        Some("#555555"),
+    );
+    let (head, _) = split_label(&a.label);
+    doc.text(BAR_X + 24.0, top - 28.0, TICK_PX - 1.0, "start", 0.0, head);
 }

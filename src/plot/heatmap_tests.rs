@@ -26,6 +26,7 @@ fn map(nx: usize, ny: usize, f: impl Fn(f64, f64) -> Option<f64>) -> HeatMap {
         z,
         z_label: "critical speed (m/s)".into(),
         threshold: Some((55.56, "stable above / unstable below: V = 55.6 m/s".into())),
+        above: None,
     }
 }
 
