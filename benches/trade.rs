@@ -46,6 +46,8 @@ fn trade() -> (TradePlan, Vec<Row>) {
                 axes: vec![(key.into(), k)],
                 results: [Some(v), None, Some(v)],
                 status: "ok".into(),
+                above: [false; 3],
+                stable_up_to_m_s: None,
             }
         })
         .collect();

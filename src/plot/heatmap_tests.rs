@@ -144,6 +144,7 @@ fn trade_plot_validates_and_labels() {
     let pts = |x: f64, y: Option<f64>, f: bool| TradePoint {
         x,
         y,
+        above: false,
         feasible: f,
         pareto: f,
         best: false,
