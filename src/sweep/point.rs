@@ -334,3 +334,7 @@ fn nonlinear(rec: &mut PointRecord, plan: &crate::study::Plan, model: &Wheelset)
         Err(e) => rec.failures.push(format!("nonlinear: {e}")),
     }
 }
+
+#[cfg(test)]
+#[path = "point_tests.rs"]
+mod tests;
