@@ -20,7 +20,10 @@ fn seed(name: &str, v_max: f64) -> String {
     let range = "speed_range = [\"1 m/s\", \"150 m/s\"]";
     assert!(text.contains(range));
     text.replace("name = \"seed-hunting\"", &format!("name = \"{name}\""))
-        .replace(range, &format!("speed_range = [\"1 m/s\", \"{v_max} m/s\"]"))
+        .replace(
+            range,
+            &format!("speed_range = [\"1 m/s\", \"{v_max} m/s\"]"),
+        )
 }
 
 /// The sweep study over `KS` with the range [1, v_max] m/s.

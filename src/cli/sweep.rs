@@ -10,7 +10,9 @@ use super::commands::{compute, user, write};
 use super::Failure;
 use crate::figures;
 use crate::output;
-use crate::sweep::{self, Computed, Outcome, PointRecord, Progress, Shard, SweepError, SweepOptions, SweepStudy};
+use crate::sweep::{
+    self, Computed, Outcome, PointRecord, Progress, Shard, SweepError, SweepOptions, SweepStudy,
+};
 
 /// `critspeed sweep` arguments.
 #[derive(Debug, clap::Args)]
@@ -150,7 +152,11 @@ pub(super) fn compute_points(
         eprintln!();
     }
     let failed = res.rows.iter().filter(|r| !r.ok()).count();
-    let above = res.rows.iter().filter(|r| r.ok() && r.has_above_range()).count();
+    let above = res
+        .rows
+        .iter()
+        .filter(|r| r.ok() && r.has_above_range())
+        .count();
     eprintln!(
         "{} points finished ({} this run, {} resumed), {failed} failed, {above} above range (no onset up to the top of the speed range); records in {}",
         res.rows.len(),
@@ -224,7 +230,10 @@ fn result_line(rows: &[PointRecord], which: Computed) -> String {
 /// Point counts by status, and each result's range, with units.
 fn summary(study: &SweepStudy, rows: &[PointRecord]) -> String {
     let failed = rows.iter().filter(|r| !r.ok()).count();
-    let above = rows.iter().filter(|r| r.ok() && r.has_above_range()).count();
+    let above = rows
+        .iter()
+        .filter(|r| r.ok() && r.has_above_range())
+        .count();
     let mut s = format!(
         "sweep '{}': {} points: {} ok, {above} above range, {failed} failed\n",
         study.base.name,
@@ -233,9 +242,17 @@ fn summary(study: &SweepStudy, rows: &[PointRecord]) -> String {
     );
     let c = study.spec.compute;
     for (on, which, name) in [
-        (c.kalker, Computed::Kalker, "Kalker critical speed V_L:     "),
+        (
+            c.kalker,
+            Computed::Kalker,
+            "Kalker critical speed V_L:     ",
+        ),
         (c.hopf, Computed::Hopf, "creep-law Hopf speed V_H:      "),
-        (c.nonlinear, Computed::Nonlinear, "nonlinear critical speed V_NL: "),
+        (
+            c.nonlinear,
+            Computed::Nonlinear,
+            "nonlinear critical speed V_NL: ",
+        ),
     ] {
         if on {
             s += &format!("  {name} {}\n", result_line(rows, which));

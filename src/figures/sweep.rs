@@ -123,9 +123,11 @@ fn line_plot(
         .filter_map(|(x, r)| Some((*x, r.filter(|r| r.has_above_range())?.stable_up_to_m_s?)))
         .collect();
     ys.extend(above.iter().map(|p| p.1));
-    let (lo, hi) = ys.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), y| {
-        (l.min(*y), h.max(*y))
-    });
+    let (lo, hi) = ys
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), y| {
+            (l.min(*y), h.max(*y))
+        });
     let (lo, hi) = if lo <= hi { (lo, hi) } else { (0.0, 1.0) };
     let pad = if hi > lo { 0.06 * (hi - lo) } else { 1.0 };
     // a band under the data for the failed points, which have no value
@@ -258,6 +260,31 @@ mod tests {
         assert_eq!(h.z[8], None);
         assert_eq!(h.z[5], Some(50.0));
         assert!(sweep("t", &s, &rows).is_ok());
+    }
+
+    #[test]
+    fn above_range_is_not_failed_on_plots() {
+        let above = |id: usize| PointRecord {
+            failures: vec![],
+            above_range: vec![Computed::Kalker],
+            stable_up_to_m_s: Some(300.0),
+            ..row(id, None)
+        };
+        let mut rows: Vec<PointRecord> = (0..3).map(|i| row(i, Some(40.0 + i as f64))).collect();
+        rows[1] = above(1);
+        let line = sweep("t", &spec(1), &rows).expect("svg");
+        assert!(line[0].1.contains("above range: stable to 300 m/s"));
+        assert!(!line[0].1.contains("failed point"));
+        // on a map: one above-range cell, one failed, one absent (also failed)
+        let mut rows: Vec<PointRecord> = (0..8).map(|i| row(i, Some(40.0 + i as f64))).collect();
+        rows[4] = above(4);
+        rows[5] = row(5, None);
+        let map = sweep("t", &spec(2), &rows).expect("svg");
+        let svg = &map[0].1;
+        let cells = |fill: &str| svg.matches(&format!("fill=\"{fill}\"/>")).count();
+        assert_eq!(cells(crate::plot::ABOVE_FILL), 1);
+        assert_eq!(cells("url(#failed)"), 2);
+        assert!(svg.contains("300 m/s (1)"));
     }
 
     #[test]

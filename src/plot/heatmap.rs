@@ -382,7 +382,12 @@ fn legend(doc: &mut Doc, h: &HeatMap, failed: usize) {
     }
     let above = (0..h.z.len()).filter(|&k| is_above(h, k)).count();
     if let Some(a) = h.above.as_ref().filter(|_| above > 0) {
-        doc.rect((x, y - 7.0), (x + 26.0, y + 7.0), ABOVE_FILL, Some("#555555"));
+        doc.rect(
+            (x, y - 7.0),
+            (x + 26.0, y + 7.0),
+            ABOVE_FILL,
+            Some("#555555"),
+        );
         let (head, note) = split_label(&a.label);
         let text = format!("{head} ({above})");
         doc.text(x + 32.0, y + 4.0, TICK_PX, "start", 0.0, &text);

@@ -240,7 +240,9 @@ fn draw_series<'a, 'b: 'a>(
             Mark::Above => {
                 anno.legend(move |(x, y)| TriangleMarker::new((x + len / 2, y), 2 * dot, fill))
             }
-            Mark::Crosses => anno.legend(move |(x, y)| Cross::new((x + len / 2, y), 2 * dot, style)),
+            Mark::Crosses => {
+                anno.legend(move |(x, y)| Cross::new((x + len / 2, y), 2 * dot, style))
+            }
             Mark::Coloured => anno.legend(move |(x, y)| {
                 let c = |t: f64| {
                     let dx = len / 2 + ((t - 0.5) * 2.0 * f64::from(step)) as i32;

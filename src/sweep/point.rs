@@ -195,9 +195,7 @@ fn names(list: &str) -> Option<Vec<Computed>> {
 /// A `status` text → (failures, results above range).
 pub fn parse_status(status: &str) -> Result<(Vec<String>, Vec<Computed>), String> {
     let bad = || {
-        format!(
-            "status {status:?} is none of \"ok\", \"{ABOVE}<results>\", \"{FAILED}<reasons>\""
-        )
+        format!("status {status:?} is none of \"ok\", \"{ABOVE}<results>\", \"{FAILED}<reasons>\"")
     };
     if status == "ok" {
         return Ok((Vec::new(), Vec::new()));

@@ -97,7 +97,11 @@ pub fn records_preamble(spec: &SweepSpec, fingerprint: &str, shard: (usize, usiz
 
 /// Whether the header `cols` ends with the columns `tail`.
 fn ends_with(cols: &[String], tail: &[&str]) -> bool {
-    cols.len() >= tail.len() && cols[cols.len() - tail.len()..].iter().zip(tail).all(|(a, b)| a == b)
+    cols.len() >= tail.len()
+        && cols[cols.len() - tail.len()..]
+            .iter()
+            .zip(tail)
+            .all(|(a, b)| a == b)
 }
 
 fn bad(path: &Path, line: usize, problem: impl Into<String>) -> SweepError {

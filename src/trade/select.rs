@@ -86,7 +86,11 @@ fn check_above(name: &str, top: f64, c: &Constraint) -> Option<String> {
     });
     let high = c.at_most.map(|hi| {
         if hi <= top {
-            format!("{name} > {} m/s ({stable}) > {} m/s", fmt_si(top), fmt_si(hi))
+            format!(
+                "{name} > {} m/s ({stable}) > {} m/s",
+                fmt_si(top),
+                fmt_si(hi)
+            )
         } else {
             format!("{name} unknown: {stable}; cannot show ≤ {} m/s", fmt_si(hi))
         }
@@ -170,3 +174,7 @@ pub fn assess(plan: &TradePlan, rows: &[Row]) -> Vec<Assessment> {
 #[cfg(test)]
 #[path = "select_tests.rs"]
 mod tests;
+
+#[cfg(test)]
+#[path = "above_tests.rs"]
+mod above_tests;
