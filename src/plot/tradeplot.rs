@@ -212,7 +212,7 @@ fn legend(doc: &mut Doc, p: &TradePlot, x: f64, y: f64) {
     circle(doc, yy, 4.0, &format!("fill=\"{GREY}\""));
     let above = count(&|t| t.above && t.y.is_some());
     if above > 0 {
-        let yy = entry(doc, &format!("above range: V > shown ({above})"));
+        let yy = entry(doc, &format!("above range ({above})"));
         doc.raw(&triangle(x + 12.0, yy, GREY));
     }
     let missing = count(&|t| t.y.is_none());
@@ -231,6 +231,7 @@ fn legend(doc: &mut Doc, p: &TradePlot, x: f64, y: f64) {
             "fill=\"none\" stroke=\"#000000\" stroke-width=\"2.2\"",
         );
         let v = b.y.map_or("-".to_string(), format_value);
+        let v = if b.above { format!("> {v}") } else { v };
         let (ux, uy) = (unit_of(&p.x_label), unit_of(&p.y_label));
         entry(doc, &format!("  {} {ux}, {v} {uy}", format_value(b.x)));
     }
