@@ -8,6 +8,11 @@ use super::scale::format_value;
 use super::svg::{hex, nice_ticks, AxisMap, Doc, Frame, LABEL_PX, TICK_PX};
 use super::PlotError;
 
+#[path = "heatmap_above.rs"]
+mod above;
+use above::{above_box, is_above, split_label, threshold_z};
+pub use above::{AboveRange, ABOVE_FILL};
+
 /// A value `z` sampled on the grid `x × y`, to be drawn as a heat map with contours.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HeatMap {
@@ -36,26 +41,6 @@ pub struct HeatMap {
     /// top of the speed range); `None` = there are none.
     pub above: Option<AboveRange>,
 }
-
-/// Cells of a [`HeatMap`] whose value lies above a known bound. They are filled in
-/// [`ABOVE_FILL`] (beyond the top of the colour bar, not hatched) and no contour is drawn
-/// through a square touching one, except the threshold contour when the threshold is at or
-/// below the bound: there the cell is known to lie above the threshold, and the contour is
-/// drawn as if its value were the bound. Linear interpolation then puts the crossing at or
-/// beyond where the true (larger) value would put it, i.e. on the side of the above-range cell:
-/// the region drawn below the threshold is never smaller than the interpolated one.
-#[derive(Debug, Clone, PartialEq)]
-pub struct AboveRange {
-    /// One flag per cell, in the order of [`HeatMap::z`]; the cell's `z` should be `None`.
-    pub cells: Vec<bool>,
-    /// The bound the values exceed, in the unit of `z` (e.g. 300 for `"> 300 m/s"`).
-    pub bound: f64,
-    /// Legend and colour-bar text, e.g. `"> 300 m/s (no onset in range)"`.
-    pub label: String,
-}
-
-/// Fill of above-range cells: a pale pink, outside the viridis range and unlike the grey hatch.
-pub const ABOVE_FILL: &str = "#f4b6d2";
 
 const W: f64 = 880.0;
 const H: f64 = 600.0;
@@ -140,24 +125,6 @@ fn validate(h: &HeatMap) -> Result<(f64, f64), PlotError> {
         .ok_or_else(|| PlotError::Empty {
             title: h.title.clone(),
         })
-}
-
-/// Whether cell `k` is above range.
-fn is_above(h: &HeatMap, k: usize) -> bool {
-    h.above
-        .as_ref()
-        .is_some_and(|a| a.cells.get(k).copied().unwrap_or(false))
-}
-
-/// The values the threshold contour is drawn through: `z`, with above-range cells at the
-/// bound when the threshold `t` is at or below it (see [`AboveRange`]).
-fn threshold_z(h: &HeatMap, t: f64) -> Vec<Option<f64>> {
-    match &h.above {
-        Some(a) if t <= a.bound => (h.z.iter().enumerate())
-            .map(|(k, z)| if is_above(h, k) { Some(a.bound) } else { *z })
-            .collect(),
-        _ => h.z.clone(),
-    }
 }
 
 /// Cell boundaries around each node: midpoints (geometric on a log axis), half a step
@@ -395,28 +362,4 @@ fn legend(doc: &mut Doc, h: &HeatMap, failed: usize) {
             doc.text(x + 32.0, y + 18.0, TICK_PX - 2.0, "start", 0.0, note);
         }
     }
-}
-
-/// `"> 300 m/s (no onset in range)"` → (`"> 300 m/s"`, `Some("(no onset in range)")`).
-fn split_label(label: &str) -> (&str, Option<&str>) {
-    match label.find(" (") {
-        Some(i) => (&label[..i], Some(&label[i + 1..])),
-        None => (label, None),
-    }
-}
-
-/// The above-range entry of the colour bar: a box of [`ABOVE_FILL`] over its top.
-fn above_box(doc: &mut Doc, h: &HeatMap, top: f64) {
-    let Some(a) = &h.above else { return };
-    if !a.cells.contains(&true) {
-        return;
-    }
-    doc.rect(
-        (BAR_X, top - 24.0),
-        (BAR_X + 18.0, top - 40.0),
-        ABOVE_FILL,
-        Some("#555555"),
-    );
-    let (head, _) = split_label(&a.label);
-    doc.text(BAR_X + 24.0, top - 28.0, TICK_PX - 1.0, "start", 0.0, head);
 }
