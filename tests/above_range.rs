@@ -184,3 +184,19 @@ fn old_records_files_are_refused_by_name() {
     let out = critspeed(&["--out", "o", "merge", "study.toml"], &dir);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn old_sweep_csv_is_still_read() {
+    let dir = scratch("oldcsv");
+    let old = "point_id,suspension.longitudinal_stiffness_n_per_m,kalker_critical_speed_m_s,hopf_speed_m_s,\
+               nonlinear_critical_speed_m_s,status,kalker_frequency_hz,hopf_frequency_hz,nonlinear_located\n\
+               0,2000000,120.5,,,ok,2.5,,\n\
+               1,4000000,,,,failed: kalker: no onset of hunting between 1 and 100 m/s,,,\n";
+    let p = dir.join("sweep.csv");
+    std::fs::write(&p, old).expect("write");
+    let csv = sweep::read_csv(&p).expect("format-1 sweep.csv");
+    assert_eq!(csv.rows.len(), 2);
+    assert_eq!(csv.rows[0].kalker_m_s, Some(120.5));
+    // its meaning is kept: there no onset was a failure
+    assert!(!csv.rows[1].ok() && csv.rows[1].above_range.is_empty());
+}
