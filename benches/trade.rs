@@ -31,6 +31,7 @@ fn map() -> HeatMap {
         z,
         z_label: "V (m/s)".into(),
         threshold: Some((55.56, "V = 55.6 m/s".into())),
+        above: None,
     }
 }
 
@@ -45,6 +46,8 @@ fn trade() -> (TradePlan, Vec<Row>) {
                 axes: vec![(key.into(), k)],
                 results: [Some(v), None, Some(v)],
                 status: "ok".into(),
+                above: [false; 3],
+                stable_up_to_m_s: None,
             }
         })
         .collect();

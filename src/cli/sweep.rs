@@ -11,7 +11,9 @@ use super::console::{results, status, statusln};
 use super::Failure;
 use crate::figures;
 use crate::output;
-use crate::sweep::{self, PointRecord, Progress, Shard, SweepError, SweepOptions, SweepStudy};
+use crate::sweep::{
+    self, Computed, Outcome, PointRecord, Progress, Shard, SweepError, SweepOptions, SweepStudy,
+};
 
 /// `critspeed sweep` arguments.
 #[derive(Debug, clap::Args)]
@@ -65,10 +67,11 @@ fn progress_line(p: &Progress) -> String {
         f64::NAN
     };
     format!(
-        "  {}/{} points ({} failed), elapsed {}, remaining {}",
+        "  {}/{} points ({} failed, {} above range), elapsed {}, remaining {}",
         p.done,
         p.todo,
         p.failed,
+        p.above_range,
         clock(el),
         if left.is_finite() {
             clock(left)
@@ -153,8 +156,13 @@ pub(super) fn compute_points(
         statusln!();
     }
     let failed = res.rows.iter().filter(|r| !r.ok()).count();
+    let above = res
+        .rows
+        .iter()
+        .filter(|r| r.ok() && r.has_above_range())
+        .count();
     statusln!(
-        "{} points finished ({} this run, {} resumed), {failed} failed; records in {}",
+        "{} points finished ({} this run, {} resumed), {failed} failed, {above} above range (no onset up to the top of the speed range); records in {}",
         res.rows.len(),
         res.computed,
         res.resumed,
@@ -188,37 +196,71 @@ fn finish(study: &SweepStudy, dir: &Path, rows: &[PointRecord]) -> Result<(), Fa
     Ok(())
 }
 
-/// Ranges of the results, with units.
-fn summary(study: &SweepStudy, rows: &[PointRecord]) -> String {
-    let range = |get: fn(&PointRecord) -> Option<f64>| {
-        let v: Vec<f64> = rows.iter().filter_map(get).collect();
+/// One result over the points: the range where found, the count above range, the rest.
+fn result_line(rows: &[PointRecord], which: Computed) -> String {
+    let (mut found, mut above, mut missing) = (Vec::new(), Vec::new(), 0);
+    for r in rows {
+        match r.outcome(which) {
+            Outcome::Found { speed_m_s, .. } => found.push(speed_m_s),
+            Outcome::AboveRange { stable_up_to_m_s } => above.push(stable_up_to_m_s),
+            Outcome::Missing => missing += 1,
+        }
+    }
+    let span = |v: &[f64]| {
         let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        if v.is_empty() {
-            "not found at any point".to_string()
-        } else {
-            format!("{lo:.3} .. {hi:.3} m/s at {} points", v.len())
-        }
+        (lo, hi)
     };
+    let mut parts = Vec::new();
+    if found.is_empty() {
+        parts.push("not found at any point".to_string());
+    } else {
+        let (lo, hi) = span(&found);
+        parts.push(format!("{lo:.3} .. {hi:.3} m/s at {} points", found.len()));
+    }
+    if !above.is_empty() {
+        let (lo, _) = span(&above);
+        parts.push(format!(
+            "above range (no onset up to {lo:.3} m/s) at {} points",
+            above.len()
+        ));
+    }
+    if missing > 0 {
+        parts.push(format!("failed at {missing} points"));
+    }
+    parts.join("; ")
+}
+
+/// Point counts by status, and each result's range, with units.
+fn summary(study: &SweepStudy, rows: &[PointRecord]) -> String {
+    let failed = rows.iter().filter(|r| !r.ok()).count();
+    let above = rows
+        .iter()
+        .filter(|r| r.ok() && r.has_above_range())
+        .count();
+    let mut s = format!(
+        "sweep '{}': {} points: {} ok, {above} above range, {failed} failed\n",
+        study.base.name,
+        rows.len(),
+        rows.len() - failed - above
+    );
     let c = study.spec.compute;
-    let mut s = format!("sweep '{}': {} points\n", study.base.name, rows.len());
-    if c.kalker {
-        s += &format!(
-            "  Kalker critical speed V_L:        {}\n",
-            range(|r| r.kalker_m_s)
-        );
-    }
-    if c.hopf {
-        s += &format!(
-            "  creep-law Hopf speed V_H:         {}\n",
-            range(|r| r.hopf_m_s)
-        );
-    }
-    if c.nonlinear {
-        s += &format!(
-            "  nonlinear critical speed V_NL:    {}\n",
-            range(|r| r.nonlinear_m_s)
-        );
+    for (on, which, name) in [
+        (
+            c.kalker,
+            Computed::Kalker,
+            "Kalker critical speed V_L:     ",
+        ),
+        (c.hopf, Computed::Hopf, "creep-law Hopf speed V_H:      "),
+        (
+            c.nonlinear,
+            Computed::Nonlinear,
+            "nonlinear critical speed V_NL: ",
+        ),
+    ] {
+        if on {
+            s += &format!("  {name} {}\n", result_line(rows, which));
+        }
     }
     s
 }

@@ -1,14 +1,17 @@
 //! Sweep figures: critical speeds against one axis (`sweep.svg`), or a map over two axes
-//! (`sweep_map_<result>.svg`). Failed points are drawn as failed, never interpolated over.
+//! (`sweep_map_<result>.svg`). Failed points are drawn as failed, never interpolated over;
+//! points with no onset in their speed range ("above range") are drawn as such: an up-triangle
+//! at the top of the range on the line plot, a cell beyond the top of the colour bar on a map.
 
 use super::{figure, line};
-use crate::plot::{render_svg, Marker, PlotError, Series, Style};
-use crate::sweep::{PointRecord, SweepSpec};
+use crate::plot::{render_svg, AboveRange, Figure, Marker, PlotError, Series, Style};
+use crate::sweep::{Axis, Computed, Outcome, PointRecord, SweepSpec};
 
 pub use crate::plot::HeatMap;
 
 /// The map of one result over two axes: cells coloured by value, labelled contours, the
-/// operating-speed boundary; failed points hatched, never interpolated over.
+/// operating-speed boundary; failed points hatched, never interpolated over; above-range
+/// points (no onset up to the top of the speed range) filled beyond the colour bar.
 pub fn sweep_map(h: &HeatMap) -> Result<String, PlotError> {
     crate::plot::heat_map_svg(h)
 }
@@ -72,49 +75,85 @@ pub fn sweep(
         _ => None,
     };
     if let Some(a) = line_axis {
-        let mut f = figure(
-            &format!("{study}: critical speeds against {}", a.key),
-            &a.label(),
-            "speed (m/s)",
-        );
-        for (_, name, get) in picks(spec) {
-            let pts: Vec<(f64, f64)> = a
-                .values
-                .iter()
-                .zip(&by_id)
-                .map(|(x, r)| (*x, r.and_then(get).unwrap_or(f64::NAN)))
-                .collect();
-            // a result found nowhere has no line (its failures are marked below)
-            if pts.iter().any(|p| p.1.is_finite()) {
-                f.series.push(line(name, pts, false));
-            }
-        }
-        let failed: Vec<(f64, f64)> = a
-            .values
-            .iter()
-            .zip(&by_id)
-            .filter(|(_, r)| !r.is_some_and(PointRecord::ok))
-            .map(|(x, _)| (*x, 0.0))
-            .collect();
-        if !failed.is_empty() {
-            f.series.push(Series {
-                name: "failed point (reason in sweep.csv)".into(),
-                points: failed,
-                style: Style::Points,
-            });
-        }
-        if let Some((v, label)) = threshold {
-            f.hlines.push(Marker { at: v, label });
-        }
+        let f = line_plot(study, spec, a, &by_id, threshold);
         return Ok(vec![("sweep.svg".into(), render_svg(&f, 900, 600)?)]);
     }
     picks(spec)
         .into_iter()
         .map(|(file, name, get)| {
-            let h = heat_map(study, spec, &by_id, name, get, threshold.clone());
+            let mut h = heat_map(study, spec, &by_id, name, get, threshold.clone());
+            h.above = above_range(&by_id, Computed::from_name(file));
             Ok((format!("sweep_map_{file}.svg"), sweep_map(&h)?))
         })
         .collect()
+}
+
+/// The critical speeds against one axis: a line per result (broken where a point has none);
+/// points with a result above range as up-triangles at the top of their speed range (the
+/// value lies above); failed or absent points as crosses along the bottom of the plot.
+fn line_plot(
+    study: &str,
+    spec: &SweepSpec,
+    a: &Axis,
+    by_id: &[Option<&PointRecord>],
+    threshold: Option<(f64, String)>,
+) -> Figure {
+    let mut f = figure(
+        &format!("{study}: critical speeds against {}", a.key),
+        &a.label(),
+        "speed (m/s)",
+    );
+    let mut ys: Vec<f64> = threshold.iter().map(|t| t.0).collect();
+    for (_, name, get) in picks(spec) {
+        let pts: Vec<(f64, f64)> = a
+            .values
+            .iter()
+            .zip(by_id)
+            .map(|(x, r)| (*x, r.and_then(get).unwrap_or(f64::NAN)))
+            .collect();
+        ys.extend(pts.iter().map(|p| p.1).filter(|y| y.is_finite()));
+        // a result found nowhere has no line (its points are marked below)
+        if pts.iter().any(|p| p.1.is_finite()) {
+            f.series.push(line(name, pts, false));
+        }
+    }
+    let points = a.values.iter().zip(by_id);
+    let above: Vec<(f64, f64)> = points
+        .clone()
+        .filter_map(|(x, r)| Some((*x, r.filter(|r| r.has_above_range())?.stable_up_to_m_s?)))
+        .collect();
+    ys.extend(above.iter().map(|p| p.1));
+    let (lo, hi) = ys
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), y| {
+            (l.min(*y), h.max(*y))
+        });
+    let (lo, hi) = if lo <= hi { (lo, hi) } else { (0.0, 1.0) };
+    let pad = if hi > lo { 0.06 * (hi - lo) } else { 1.0 };
+    // a band under the data for the failed points, which have no value
+    f.y_range = Some((lo - 3.0 * pad, hi + 1.5 * pad));
+    let failed: Vec<(f64, f64)> = points
+        .filter(|(_, r)| !r.is_some_and(PointRecord::ok))
+        .map(|(x, _)| (*x, lo - 1.8 * pad))
+        .collect();
+    if let Some(top) = above.first().map(|p| p.1) {
+        f.series.push(Series {
+            name: format!("above range: stable to {top:.0} m/s (no onset in range)"),
+            points: above,
+            style: Style::Above,
+        });
+    }
+    if !failed.is_empty() {
+        f.series.push(Series {
+            name: "failed point (no value; reason in sweep.csv)".into(),
+            points: failed,
+            style: Style::Crosses,
+        });
+    }
+    if let Some((v, label)) = threshold {
+        f.hlines.push(Marker { at: v, label });
+    }
+    f
 }
 
 /// The map of one result over two axes: each cell is its point's value, `None` where the
@@ -139,7 +178,26 @@ fn heat_map(
         z: by_id.iter().map(|r| r.and_then(get)).collect(),
         z_label: format!("{name} (m/s)"),
         threshold,
+        above: None,
     }
+}
+
+/// The cells where result `which` is above range, with the lowest top of range among them.
+fn above_range(by_id: &[Option<&PointRecord>], which: Option<Computed>) -> Option<AboveRange> {
+    let which = which?;
+    let tops: Vec<Option<f64>> = by_id
+        .iter()
+        .map(|r| match r.map(|r| r.outcome(which)) {
+            Some(Outcome::AboveRange { stable_up_to_m_s }) => Some(stable_up_to_m_s),
+            _ => None,
+        })
+        .collect();
+    let bound = tops.iter().flatten().copied().reduce(f64::min)?;
+    Some(AboveRange {
+        cells: tops.iter().map(Option::is_some).collect(),
+        bound,
+        label: format!("> {bound:.0} m/s (no onset in range)"),
+    })
 }
 
 #[cfg(test)]
@@ -181,6 +239,8 @@ mod tests {
             kalker_frequency_hz: None,
             hopf_frequency_hz: None,
             nonlinear_located: None,
+            above_range: vec![],
+            stable_up_to_m_s: None,
         }
     }
 
@@ -200,6 +260,31 @@ mod tests {
         assert_eq!(h.z[8], None);
         assert_eq!(h.z[5], Some(50.0));
         assert!(sweep("t", &s, &rows).is_ok());
+    }
+
+    #[test]
+    fn above_range_is_not_failed_on_plots() {
+        let above = |id: usize| PointRecord {
+            failures: vec![],
+            above_range: vec![Computed::Kalker],
+            stable_up_to_m_s: Some(300.0),
+            ..row(id, None)
+        };
+        let mut rows: Vec<PointRecord> = (0..3).map(|i| row(i, Some(40.0 + i as f64))).collect();
+        rows[1] = above(1);
+        let line = sweep("t", &spec(1), &rows).expect("svg");
+        assert!(line[0].1.contains("above range: stable to 300 m/s"));
+        assert!(!line[0].1.contains("failed point"));
+        // on a map: one above-range cell, one failed, one absent (also failed)
+        let mut rows: Vec<PointRecord> = (0..8).map(|i| row(i, Some(40.0 + i as f64))).collect();
+        rows[4] = above(4);
+        rows[5] = row(5, None);
+        let map = sweep("t", &spec(2), &rows).expect("svg");
+        let svg = &map[0].1;
+        let cells = |fill: &str| svg.matches(&format!("fill=\"{fill}\"/>")).count();
+        assert_eq!(cells(crate::plot::ABOVE_FILL), 1);
+        assert_eq!(cells("url(#failed)"), 2);
+        assert!(svg.contains("300 m/s (1)"));
     }
 
     #[test]

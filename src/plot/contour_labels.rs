@@ -18,8 +18,15 @@ pub(crate) struct Contour {
 pub(crate) type LabelBox = (f64, f64, f64, f64);
 
 impl Contour {
-    pub fn new(h: &HeatMap, (xm, ym): (&AxisMap, &AxisMap), level: f64, threshold: bool) -> Self {
-        let lines = contour_lines(&h.x, &h.y, &h.z, level)
+    /// The contour of `z` (on `h`'s grid) at `level`.
+    pub fn new(
+        h: &HeatMap,
+        z: &[Option<f64>],
+        (xm, ym): (&AxisMap, &AxisMap),
+        level: f64,
+        threshold: bool,
+    ) -> Self {
+        let lines = contour_lines(&h.x, &h.y, z, level)
             .iter()
             .map(|l| l.iter().map(|p| (xm.px(p.0), ym.px(p.1))).collect())
             .collect();

@@ -8,6 +8,11 @@ use super::scale::format_value;
 use super::svg::{hex, nice_ticks, AxisMap, Doc, Frame, LABEL_PX, TICK_PX};
 use super::PlotError;
 
+#[path = "heatmap_above.rs"]
+mod above;
+use above::{above_box, is_above, split_label, threshold_z};
+pub use above::{AboveRange, ABOVE_FILL};
+
 /// A value `z` sampled on the grid `x × y`, to be drawn as a heat map with contours.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HeatMap {
@@ -32,6 +37,9 @@ pub struct HeatMap {
     /// A distinguished contour level and its label, e.g.
     /// `(55.56, "stable above / unstable below: V = 55.6 m/s")`.
     pub threshold: Option<(f64, String)>,
+    /// Cells whose value is only known to exceed a bound (e.g. no onset of hunting up to the
+    /// top of the speed range); `None` = there are none.
+    pub above: Option<AboveRange>,
 }
 
 const W: f64 = 880.0;
@@ -95,14 +103,28 @@ fn validate(h: &HeatMap) -> Result<(f64, f64), PlotError> {
     if let Some((t, _)) = h.threshold.as_ref().filter(|(t, _)| !t.is_finite()) {
         return Err(invalid(h, format!("threshold {t} is not finite")));
     }
+    if let Some(a) = &h.above {
+        if a.cells.len() != n || !a.bound.is_finite() {
+            let rule = format!(
+                "above-range cells: {} flags (x × y needs {n}) and bound {} (must be finite)",
+                a.cells.len(),
+                a.bound
+            );
+            return Err(invalid(h, rule));
+        }
+    }
     let finite = h.z.iter().flatten().filter(|v| v.is_finite());
     let range = finite.fold(None, |acc: Option<(f64, f64)>, &v| match acc {
         None => Some((v, v)),
         Some((a, b)) => Some((a.min(v), b.max(v))),
     });
-    range.ok_or_else(|| PlotError::Empty {
-        title: h.title.clone(),
-    })
+    // a map of above-range cells only is still a result: scale up to the bound
+    let bound = h.above.as_ref().filter(|a| a.cells.contains(&true));
+    range
+        .or_else(|| bound.map(|a| (a.bound, a.bound)))
+        .ok_or_else(|| PlotError::Empty {
+            title: h.title.clone(),
+        })
 }
 
 /// Cell boundaries around each node: midpoints (geometric on a log axis), half a step
@@ -179,10 +201,11 @@ pub fn heat_map_svg(h: &HeatMap) -> Result<String, PlotError> {
     let levels = contour_levels(zlo, zhi);
     let mut contours: Vec<Contour> = levels
         .iter()
-        .map(|&l| Contour::new(h, (&xm, &ym), l, false))
+        .map(|&l| Contour::new(h, &h.z, (&xm, &ym), l, false))
         .collect();
     if let Some((t, _)) = &h.threshold {
-        contours.push(Contour::new(h, (&xm, &ym), *t, true));
+        let z = threshold_z(h, *t);
+        contours.push(Contour::new(h, &z, (&xm, &ym), *t, true));
     }
     // the threshold's label is placed first, the others where they do not collide
     let mut placed = Vec::new();
@@ -217,7 +240,8 @@ pub fn heat_map_svg(h: &HeatMap) -> Result<String, PlotError> {
     Ok(doc.finish())
 }
 
-/// Cells around each node coloured by its value, failed ones hatched; returns how many failed.
+/// Cells around each node coloured by its value, above-range ones in [`ABOVE_FILL`], failed
+/// ones hatched; returns how many failed.
 fn draw_cells(
     doc: &mut Doc,
     h: &HeatMap,
@@ -233,6 +257,7 @@ fn draw_cells(
         let b = (xm.px(ex[i + 1]), ym.px(ey[j + 1]));
         let fill = match z.filter(|v| v.is_finite()) {
             Some(v) => hex(viridis((v - zlo) / (zhi - zlo))),
+            None if is_above(h, k) => ABOVE_FILL.to_string(),
             None => {
                 failed += 1;
                 "url(#failed)".to_string()
@@ -293,6 +318,7 @@ fn colour_bar(doc: &mut Doc, h: &HeatMap, (lo, hi): (f64, f64), levels: &[f64]) 
         let y = bar.px(*t);
         doc.polyline(&[(BAR_X - 4.0, y), (BAR_X + 22.0, y)], THRESHOLD, 3.0, None);
     }
+    above_box(doc, h, top);
     let mid = (top + bottom) / 2.0;
     doc.text(BAR_X + 80.0, mid, LABEL_PX, "middle", 90.0, &h.z_label);
 }
@@ -303,7 +329,7 @@ fn legend(doc: &mut Doc, h: &HeatMap, failed: usize) {
         doc.polyline(&[(x, y), (x + 26.0, y)], THRESHOLD, 3.0, Some("9 5"));
         let text = format!("threshold {}", format_value(*t));
         doc.text(x + 32.0, y + 4.0, TICK_PX, "start", 0.0, &text);
-        if contour_lines(&h.x, &h.y, &h.z, *t).is_empty() {
+        if contour_lines(&h.x, &h.y, &threshold_z(h, *t), *t).is_empty() {
             y += 16.0;
             let note = "(not reached on this map)";
             doc.text(x + 32.0, y + 4.0, TICK_PX - 2.0, "start", 0.0, note);
@@ -319,5 +345,21 @@ fn legend(doc: &mut Doc, h: &HeatMap, failed: usize) {
         );
         let text = format!("failed point ({failed})");
         doc.text(x + 32.0, y + 4.0, TICK_PX, "start", 0.0, &text);
+        y += 22.0;
+    }
+    let above = (0..h.z.len()).filter(|&k| is_above(h, k)).count();
+    if let Some(a) = h.above.as_ref().filter(|_| above > 0) {
+        doc.rect(
+            (x, y - 7.0),
+            (x + 26.0, y + 7.0),
+            ABOVE_FILL,
+            Some("#555555"),
+        );
+        let (head, note) = split_label(&a.label);
+        let text = format!("{head} ({above})");
+        doc.text(x + 32.0, y + 4.0, TICK_PX, "start", 0.0, &text);
+        if let Some(note) = note {
+            doc.text(x + 32.0, y + 18.0, TICK_PX - 2.0, "start", 0.0, note);
+        }
     }
 }

@@ -26,6 +26,7 @@ fn map(nx: usize, ny: usize, f: impl Fn(f64, f64) -> Option<f64>) -> HeatMap {
         z,
         z_label: "critical speed (m/s)".into(),
         threshold: Some((55.56, "stable above / unstable below: V = 55.6 m/s".into())),
+        above: None,
     }
 }
 
@@ -143,6 +144,7 @@ fn trade_plot_validates_and_labels() {
     let pts = |x: f64, y: Option<f64>, f: bool| TradePoint {
         x,
         y,
+        above: false,
         feasible: f,
         pareto: f,
         best: false,
@@ -184,4 +186,78 @@ fn write_samples() {
     });
     let dir = std::env::temp_dir();
     std::fs::write(dir.join("heatmap.svg"), heat_map_svg(&h).expect("ok")).expect("write");
+}
+
+/// `speed` with cells above 100 m/s only known to exceed 100 (no onset in range), and the
+/// soft, steep corner failed.
+fn map_with_above() -> HeatMap {
+    let mut h = map(10, 8, |k, c| {
+        if k < 200.0 && c > 0.4 {
+            None
+        } else {
+            speed(k, c)
+        }
+    });
+    let cells: Vec<bool> = h.z.iter().map(|z| z.is_some_and(|v| v > 100.0)).collect();
+    for (z, up) in h.z.iter_mut().zip(&cells) {
+        if *up {
+            *z = None;
+        }
+    }
+    h.above = Some(AboveRange {
+        cells,
+        bound: 100.0,
+        label: "> 100 m/s (no onset in range)".into(),
+    });
+    h
+}
+
+#[test]
+fn above_range_cells_are_filled_not_hatched() {
+    let h = map_with_above();
+    let above = h
+        .above
+        .as_ref()
+        .expect("set")
+        .cells
+        .iter()
+        .filter(|a| **a)
+        .count();
+    let failed = h.z.iter().filter(|z| z.is_none()).count() - above;
+    assert!(above > 0 && failed > 0, "{above} above, {failed} failed");
+    let svg = heat_map_svg(&h).expect("valid map");
+    // cells carry no stroke; the legend and colour-bar boxes do
+    let cell = |fill: &str| svg.matches(&format!("fill=\"{fill}\"/>")).count();
+    assert_eq!(cell("url(#failed)"), failed);
+    assert_eq!(cell(ABOVE_FILL), above);
+    assert!(svg.contains(&format!("failed point ({failed})")));
+    assert!(
+        svg.contains(&format!("&gt; 100 m/s ({above})")),
+        "legend entry"
+    );
+    assert!(svg.contains("(no onset in range)"));
+}
+
+#[test]
+fn threshold_reaches_above_range_cells_only_below_their_bound() {
+    // 40 m/s everywhere except the right half, which is above range (> 250 m/s)
+    let mut h = map(6, 4, |_, _| Some(40.0));
+    let cells: Vec<bool> = (0..h.z.len()).map(|k| k % 6 >= 3).collect();
+    for (z, up) in h.z.iter_mut().zip(&cells) {
+        if *up {
+            *z = None;
+        }
+    }
+    h.above = Some(AboveRange {
+        cells,
+        bound: 250.0,
+        label: "> 250 m/s (no onset in range)".into(),
+    });
+    // 55.56 <= 250: the boundary between 40 and > 250 is known to lie between the columns
+    let svg = heat_map_svg(&h).expect("map");
+    assert!(!svg.contains("not reached on this map"));
+    // 300 > 250: unknown whether the above cells reach it, so no line is drawn
+    h.threshold = Some((300.0, "V = 300 m/s".into()));
+    let svg = heat_map_svg(&h).expect("map");
+    assert!(svg.contains("not reached on this map"));
 }

@@ -26,7 +26,7 @@ mod svg;
 mod tests;
 mod tradeplot;
 
-pub use heatmap::{heat_map_svg, HeatMap};
+pub use heatmap::{heat_map_svg, AboveRange, HeatMap, ABOVE_FILL};
 pub use tradeplot::{trade_svg, TradePlot, TradePoint};
 
 use plotters::prelude::{IntoDrawingArea, SVGBackend};
@@ -74,6 +74,10 @@ pub enum Style {
     },
     /// Unconnected filled circles.
     Points,
+    /// Filled triangles pointing up: each value is a lower bound (the true one lies above).
+    Above,
+    /// Unconnected crosses (×), e.g. points that have no value, drawn at a chosen place.
+    Crosses,
     /// Filled circles coloured by a value on a viridis-like scale, with a
     /// colour bar showing `label` and the value range. Series sharing the
     /// same `label` share one scale and one colour bar.

@@ -212,6 +212,16 @@ fn draw_series<'a, 'b: 'a>(
                     .iter()
                     .map(|(pt, c)| Circle::new(*pt, dot, c.filled())),
             ),
+            Mark::Above => chart.draw_series(
+                it.points
+                    .iter()
+                    .map(|(pt, c)| TriangleMarker::new(*pt, 2 * dot, c.filled())),
+            ),
+            Mark::Crosses => chart.draw_series(
+                it.points
+                    .iter()
+                    .map(|(pt, c)| Cross::new(*pt, 2 * dot, c.stroke_width(m.line))),
+            ),
         }
         .map_err(backend_err)?;
         if it.name.is_empty() {
@@ -227,6 +237,12 @@ fn draw_series<'a, 'b: 'a>(
                 DashedPathElement::new(vec![(x, y), (x + len, y)], dash, gap, style)
             }),
             Mark::Points => anno.legend(move |(x, y)| Circle::new((x + len / 2, y), dot, fill)),
+            Mark::Above => {
+                anno.legend(move |(x, y)| TriangleMarker::new((x + len / 2, y), 2 * dot, fill))
+            }
+            Mark::Crosses => {
+                anno.legend(move |(x, y)| Cross::new((x + len / 2, y), 2 * dot, style))
+            }
             Mark::Coloured => anno.legend(move |(x, y)| {
                 let c = |t: f64| {
                     let dx = len / 2 + ((t - 0.5) * 2.0 * f64::from(step)) as i32;

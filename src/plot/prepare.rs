@@ -16,6 +16,10 @@ pub(crate) enum Mark {
     Points,
     /// Filled circles coloured by value.
     Coloured,
+    /// Filled up-pointing triangles in the series colour.
+    Above,
+    /// Crosses in the series colour.
+    Crosses,
 }
 
 /// One series, ready to draw.
@@ -170,7 +174,12 @@ pub(crate) fn prepare(fig: &Figure) -> Result<Prepared, PlotError> {
                 item.runs = visible_runs(s.points.iter().map(scaled), &rect);
                 next_colour += 1;
             }
-            Style::Points => {
+            Style::Points | Style::Above | Style::Crosses => {
+                item.mark = match s.style {
+                    Style::Above => Mark::Above,
+                    Style::Crosses => Mark::Crosses,
+                    _ => Mark::Points,
+                };
                 item.points = visible.map(|(_, p)| (p, item.colour)).collect();
                 next_colour += 1;
             }

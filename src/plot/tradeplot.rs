@@ -13,6 +13,9 @@ pub struct TradePoint {
     pub x: f64,
     /// Result value (y units); `None` when not computed or failed.
     pub y: Option<f64>,
+    /// `y` is only a lower bound (no onset up to the top of the speed range): drawn as an
+    /// up-triangle.
+    pub above: bool,
     /// Meets every constraint.
     pub feasible: bool,
     /// On the Pareto front.
@@ -159,6 +162,10 @@ pub fn trade_svg(p: &TradePlot) -> Result<String, PlotError> {
     }
     for t in &p.points {
         match pt(t) {
+            Some((x, y)) if t.above => {
+                let fill = if t.feasible { BLUE } else { GREY };
+                doc.raw(&triangle(x, y, fill));
+            }
             Some((x, y)) => {
                 let fill = if t.feasible { BLUE } else { GREY };
                 doc.raw(&format!(
@@ -203,6 +210,11 @@ fn legend(doc: &mut Doc, p: &TradePlot, x: f64, y: f64) {
         &format!("infeasible ({})", count(&|t| !t.feasible && t.y.is_some())),
     );
     circle(doc, yy, 4.0, &format!("fill=\"{GREY}\""));
+    let above = count(&|t| t.above && t.y.is_some());
+    if above > 0 {
+        let yy = entry(doc, &format!("above range ({above})"));
+        doc.raw(&triangle(x + 12.0, yy, GREY));
+    }
     let missing = count(&|t| t.y.is_none());
     if missing > 0 {
         let yy = entry(doc, &format!("no result ({missing})"));
@@ -219,6 +231,7 @@ fn legend(doc: &mut Doc, p: &TradePlot, x: f64, y: f64) {
             "fill=\"none\" stroke=\"#000000\" stroke-width=\"2.2\"",
         );
         let v = b.y.map_or("-".to_string(), format_value);
+        let v = if b.above { format!("> {v}") } else { v };
         let (ux, uy) = (unit_of(&p.x_label), unit_of(&p.y_label));
         entry(doc, &format!("  {} {ux}, {v} {uy}", format_value(b.x)));
     }
@@ -226,6 +239,19 @@ fn legend(doc: &mut Doc, p: &TradePlot, x: f64, y: f64) {
         let yy = entry(doc, "constraint");
         doc.polyline(&[(x, yy), (x + 24.0, yy)], "#444444", 1.5, Some("7 4"));
     }
+}
+
+/// An up-pointing triangle centred at `(x, y)`: the value lies above.
+fn triangle(x: f64, y: f64, fill: &str) -> String {
+    format!(
+        "<polygon points=\"{:.2},{:.2} {:.2},{:.2} {:.2},{:.2}\" fill=\"{fill}\"/>",
+        x,
+        y - 6.0,
+        x - 5.5,
+        y + 4.0,
+        x + 5.5,
+        y + 4.0
+    )
 }
 
 /// The unit in the last parentheses of an axis title, e.g. `"N/mm"` from `"k (N/mm)"`.

@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
-pub use point::PointRecord;
+pub use point::{Computed, Outcome, PointRecord};
 pub use records::{read_csv, read_records, sweep_csv, SweepCsv};
 pub use shard::Shard;
 pub use spec::{Axis, Compute, Spacing, SweepSpec, SWEEP_KEYS};
@@ -62,6 +62,8 @@ pub enum SweepError {
         expected: String,
         points: usize,
     },
+    #[error("{path} is a records file of an older critspeed (no stable_up_to_m_s column): there a point with no onset in the speed range was a failure, now it is 'above range'; move it away and run the sweep again (an old sweep.csv is still read)")]
+    OldRecords { path: String },
     #[error("point {id} appears in {first} and {second} with different results")]
     Conflict {
         id: usize,
@@ -100,6 +102,8 @@ pub struct Progress {
     pub done: usize,
     /// of which failed
     pub failed: usize,
+    /// of which had some result above the speed range (stable up to v_max) and none failed
+    pub above_range: usize,
     /// points this run computes
     pub todo: usize,
     /// points found finished in the records file at the start
@@ -187,6 +191,7 @@ pub fn run(
         file,
         rows: Vec::with_capacity(todo.len()),
         failed: 0,
+        above_range: 0,
         err: None,
     });
     let spares = Spares::default();
@@ -199,6 +204,7 @@ pub fn run(
                 p(&Progress {
                     done: g.rows.len(),
                     failed: g.failed,
+                    above_range: g.above_range,
                     todo: todo.len(),
                     resumed,
                     elapsed: started.elapsed(),
@@ -259,6 +265,7 @@ struct Sink {
     file: Option<std::io::BufWriter<std::fs::File>>,
     rows: Vec<PointRecord>,
     failed: usize,
+    above_range: usize,
     /// the first write error; later points are no longer written
     err: Option<std::io::Error>,
 }
@@ -272,6 +279,7 @@ impl Sink {
             }
         }
         self.failed += usize::from(!rec.ok());
+        self.above_range += usize::from(rec.ok() && rec.has_above_range());
         self.rows.push(rec);
     }
 }

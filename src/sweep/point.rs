@@ -1,4 +1,9 @@
 //! One sweep point: its plan, model and the requested critical speeds, or why it failed.
+//!
+//! Each requested result has one of three outcomes ([`Outcome`]): found (a speed and a
+//! frequency), **above range** (the eigen-analysis ran and the centred motion is stable over the
+//! whole speed range `[v_min, v_max]`: no onset, no divergence, so the critical speed exceeds
+//! `v_max`), or failed (with the reason). Above range is a result, not a failure.
 
 use crate::bifurcation;
 use crate::contact::creep::CreepLaw;
@@ -6,6 +11,55 @@ use crate::model::Wheelset;
 use crate::stability::{critical_speeds, LinearOptions, LinearSystem};
 
 use super::study::{Spares, SweepStudy};
+
+/// A result a sweep point can compute.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Computed {
+    /// the Kalker (linear) critical speed V_L
+    Kalker,
+    /// the Hopf speed V_H of the study's creep law
+    Hopf,
+    /// the nonlinear critical speed V_NL
+    Nonlinear,
+}
+
+impl Computed {
+    /// All results, in column order.
+    pub const ALL: [Computed; 3] = [Computed::Kalker, Computed::Hopf, Computed::Nonlinear];
+
+    /// The name used in `status` and `compute`: `kalker`, `hopf`, `nonlinear`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Computed::Kalker => "kalker",
+            Computed::Hopf => "hopf",
+            Computed::Nonlinear => "nonlinear",
+        }
+    }
+
+    /// Parses [`Self::name`].
+    pub fn from_name(s: &str) -> Option<Computed> {
+        Computed::ALL.into_iter().find(|c| c.name() == s)
+    }
+}
+
+/// What one point gives for one result.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Outcome {
+    /// the critical speed (m/s) and, for the linear results, the hunting frequency (Hz)
+    Found {
+        /// speed (m/s)
+        speed_m_s: f64,
+        /// hunting frequency at that speed (Hz), when known
+        frequency_hz: Option<f64>,
+    },
+    /// no onset in the speed range: stable at least up to `stable_up_to_m_s` (= v_max, m/s)
+    AboveRange {
+        /// top of the point's speed range (m/s); the critical speed exceeds it
+        stable_up_to_m_s: f64,
+    },
+    /// not computed, or failed (the point's `failures` say why)
+    Missing,
+}
 
 /// The result of one grid point.
 #[derive(Clone, Debug, PartialEq)]
@@ -20,7 +74,7 @@ pub struct PointRecord {
     pub hopf_m_s: Option<f64>,
     /// nonlinear critical speed V_NL (m/s)
     pub nonlinear_m_s: Option<f64>,
-    /// why requested results are missing; empty = the point is ok
+    /// why requested results are missing; empty = no result failed
     pub failures: Vec<String>,
     /// hunting frequency at the Kalker critical speed (Hz)
     pub kalker_frequency_hz: Option<f64>,
@@ -28,6 +82,10 @@ pub struct PointRecord {
     pub hopf_frequency_hz: Option<f64>,
     /// whether V_NL was located (fold or supercritical Hopf) rather than the lowest stable cycle
     pub nonlinear_located: Option<bool>,
+    /// the results with no onset in the speed range (sorted, in [`Computed::ALL`] order)
+    pub above_range: Vec<Computed>,
+    /// top of the speed range (m/s) when some result is above range, else `None`
+    pub stable_up_to_m_s: Option<f64>,
 }
 
 impl PointRecord {
@@ -42,48 +100,148 @@ impl PointRecord {
             kalker_frequency_hz: None,
             hopf_frequency_hz: None,
             nonlinear_located: None,
+            above_range: Vec::new(),
+            stable_up_to_m_s: None,
         }
     }
 
-    /// Whether every requested result was found.
+    /// Whether no requested result failed: each was found or is above range.
     pub fn ok(&self) -> bool {
         self.failures.is_empty()
     }
 
-    /// `ok`, or `failed: <reasons>` (no commas, quotes or line breaks, so the CSV stays plain).
-    pub fn status(&self) -> String {
-        if self.ok() {
-            "ok".into()
-        } else {
-            let why = self.failures.join("; ");
-            let clean: String = why
-                .chars()
-                .map(|c| match c {
-                    ',' => ';',
-                    '"' => '\'',
-                    '\n' | '\r' => ' ',
-                    c => c,
-                })
-                .collect();
-            format!("failed: {clean}")
+    /// Whether some result is above range (stable up to [`Self::stable_up_to_m_s`]).
+    pub fn has_above_range(&self) -> bool {
+        !self.above_range.is_empty()
+    }
+
+    /// The outcome of result `which`.
+    pub fn outcome(&self, which: Computed) -> Outcome {
+        let (speed, freq) = match which {
+            Computed::Kalker => (self.kalker_m_s, self.kalker_frequency_hz),
+            Computed::Hopf => (self.hopf_m_s, self.hopf_frequency_hz),
+            Computed::Nonlinear => (self.nonlinear_m_s, None),
+        };
+        match (speed, self.stable_up_to_m_s) {
+            (Some(speed_m_s), _) => Outcome::Found {
+                speed_m_s,
+                frequency_hz: freq,
+            },
+            (None, Some(v)) if self.above_range.contains(&which) => Outcome::AboveRange {
+                stable_up_to_m_s: v,
+            },
+            _ => Outcome::Missing,
         }
+    }
+
+    /// The `status` column: `ok` (every requested result found); `above range: kalker; hopf`
+    /// (none failed, these had no onset in the speed range); `failed: <reasons>` (some failed),
+    /// followed by `; above range: <names>` when others were above range. No commas, quotes or
+    /// line breaks, so the CSV stays plain.
+    pub fn status(&self) -> String {
+        let above = (!self.above_range.is_empty()).then(|| {
+            let names: Vec<&str> = self.above_range.iter().map(|c| c.name()).collect();
+            format!("{ABOVE}{}", names.join("; "))
+        });
+        match (self.ok(), above) {
+            (true, None) => "ok".into(),
+            (true, Some(a)) => a,
+            (false, above) => {
+                let why = clean(&self.failures.join("; "));
+                match above {
+                    Some(a) => format!("{FAILED}{why}; {a}"),
+                    None => format!("{FAILED}{why}"),
+                }
+            }
+        }
+    }
+
+    /// Sets `failures` and `above_range` from a `status` text written by [`Self::status`].
+    pub fn set_status(&mut self, status: &str) -> Result<(), String> {
+        let (failures, above) = parse_status(status)?;
+        self.failures = failures;
+        self.above_range = above;
+        Ok(())
     }
 }
 
-/// First onset of `model`'s own law: (speed m/s, frequency Hz), or the reason.
-fn onset(model: &Wheelset, opts: &LinearOptions, what: &str) -> Result<(f64, f64), String> {
+/// Prefix of the status of a point with results above range.
+pub const ABOVE: &str = "above range: ";
+/// Prefix of the status of a failed point.
+pub const FAILED: &str = "failed: ";
+
+fn clean(why: &str) -> String {
+    why.chars()
+        .map(|c| match c {
+            ',' => ';',
+            '"' => '\'',
+            '\n' | '\r' => ' ',
+            c => c,
+        })
+        .collect()
+}
+
+/// `kalker; hopf` → the results, or `None` when a name is not one.
+fn names(list: &str) -> Option<Vec<Computed>> {
+    let mut v = list
+        .split(';')
+        .map(|s| Computed::from_name(s.trim()))
+        .collect::<Option<Vec<_>>>()?;
+    v.sort_unstable();
+    v.dedup();
+    Some(v)
+}
+
+/// A `status` text → (failures, results above range).
+pub fn parse_status(status: &str) -> Result<(Vec<String>, Vec<Computed>), String> {
+    let bad = || {
+        format!("status {status:?} is none of \"ok\", \"{ABOVE}<results>\", \"{FAILED}<reasons>\"")
+    };
+    if status == "ok" {
+        return Ok((Vec::new(), Vec::new()));
+    }
+    if let Some(list) = status.strip_prefix(ABOVE) {
+        return names(list).map(|a| (Vec::new(), a)).ok_or_else(bad);
+    }
+    let why = status.strip_prefix(FAILED).ok_or_else(bad)?;
+    // a failed point may end with the results that were above range
+    let tail = format!("; {ABOVE}");
+    if let Some(k) = why.rfind(&tail) {
+        if let Some(a) = names(&why[k + tail.len()..]) {
+            return Ok((vec![why[..k].to_string()], a));
+        }
+    }
+    Ok((vec![why.to_string()], Vec::new()))
+}
+
+/// The linear analysis of one law at a point.
+enum Onset {
+    /// first onset: (speed m/s, frequency Hz)
+    Found(f64, f64),
+    /// stable over the whole range: no onset, no divergence
+    AboveRange,
+}
+
+/// First onset of `model`'s own law, or stable through the range, or the reason.
+fn onset(model: &Wheelset, opts: &LinearOptions, what: &str) -> Result<Onset, String> {
     let law = model.creep_law;
     let found = critical_speeds(&LinearSystem::at_centre(model), law, opts)
         .map_err(|e| format!("{what}: {e}"))?;
-    found
-        .critical()
-        .map(|c| (c.speed_m_s, c.frequency_hz))
-        .ok_or_else(|| {
-            format!(
-                "{what}: no onset of hunting between {} and {} m/s",
-                opts.speed_range.0, opts.speed_range.1
-            )
-        })
+    let (lo, hi) = opts.speed_range;
+    if let Some(c) = found.critical() {
+        return Ok(Onset::Found(c.speed_m_s, c.frequency_hz));
+    }
+    if !found.stable_at_start {
+        return Err(format!(
+            "{what}: the centred motion is already unstable at {lo} m/s (no onset in [{lo}, {hi}] m/s)"
+        ));
+    }
+    if let Some(v) = found.divergence_speeds_m_s.first() {
+        return Err(format!(
+            "{what}: no onset of hunting in [{lo}, {hi}] m/s but a divergence (real eigenvalue) at {v} m/s"
+        ));
+    }
+    Ok(Onset::AboveRange)
 }
 
 /// Computes point `id` of the sweep. Never fails: problems become the record's failures.
@@ -103,6 +261,21 @@ pub fn compute(study: &SweepStudy, id: usize, spares: &Spares) -> PointRecord {
     rec
 }
 
+/// Records a linear result: found, above range (stable up to v_max) or failed.
+fn record(rec: &mut PointRecord, which: Computed, found: Result<Onset, String>, v_max: f64) {
+    match found {
+        Ok(Onset::Found(v, f)) => match which {
+            Computed::Kalker => (rec.kalker_m_s, rec.kalker_frequency_hz) = (Some(v), Some(f)),
+            _ => (rec.hopf_m_s, rec.hopf_frequency_hz) = (Some(v), Some(f)),
+        },
+        Ok(Onset::AboveRange) => {
+            rec.above_range.push(which);
+            rec.stable_up_to_m_s = Some(v_max);
+        }
+        Err(e) => rec.failures.push(e),
+    }
+}
+
 fn fill(study: &SweepStudy, rec: &mut PointRecord, spares: &Spares) {
     let plan = match study.point_plan(rec.id) {
         Ok(p) => p,
@@ -113,42 +286,53 @@ fn fill(study: &SweepStudy, rec: &mut PointRecord, spares: &Spares) {
         Err(e) => return rec.failures.push(format!("contact geometry: {e}")),
     };
     let c = study.spec.compute;
+    let v_max = plan.linear.speed_range.1;
     if c.kalker {
         // the Kalker model is the study's with the law swapped (no copy of the table)
         let law = std::mem::replace(&mut model.creep_law, CreepLaw::Kalker);
         let found = onset(&model, &plan.linear, "kalker");
         model.creep_law = law;
-        match found {
-            Ok((v, f)) => (rec.kalker_m_s, rec.kalker_frequency_hz) = (Some(v), Some(f)),
-            Err(e) => rec.failures.push(e),
-        }
+        record(rec, Computed::Kalker, found, v_max);
     }
     if c.hopf {
-        match onset(&model, &plan.linear, "hopf") {
-            Ok((v, f)) => (rec.hopf_m_s, rec.hopf_frequency_hz) = (Some(v), Some(f)),
-            Err(e) => rec.failures.push(e),
-        }
+        let found = onset(&model, &plan.linear, "hopf");
+        record(rec, Computed::Hopf, found, v_max);
     }
     if c.nonlinear {
-        // the points are the parallel work; each continuation runs serially (same results)
-        let opts = bifurcation::BifurcationOptions {
-            parallel: false,
-            ..plan.bifurcation_options()
-        };
-        match bifurcation::analyse(&plan.name, &model, &opts) {
-            Ok(r) => match r.nonlinear_critical_speed {
-                Some((v, located)) => {
-                    (rec.nonlinear_m_s, rec.nonlinear_located) = (Some(v), Some(located))
-                }
-                None => rec.failures.push(format!(
-                    "nonlinear: no stable cycle found ({})",
-                    r.stop_reason
-                )),
-            },
-            Err(e) => rec.failures.push(format!("nonlinear: {e}")),
-        }
+        nonlinear(rec, &plan, &model);
     }
     if study.reuses_table(&plan) {
         spares.put(model);
     }
 }
+
+/// V_NL by continuation from the Hopf point. With no Hopf point in the range V_NL stays
+/// unknown (a failure): V_H > v_max does not bound V_NL, since a subcritical branch born above
+/// v_max can fold back below it, where a continuation confined to the range never looks.
+fn nonlinear(rec: &mut PointRecord, plan: &crate::study::Plan, model: &Wheelset) {
+    // the points are the parallel work; each continuation runs serially (same results)
+    let opts = bifurcation::BifurcationOptions {
+        parallel: false,
+        ..plan.bifurcation_options()
+    };
+    match bifurcation::analyse(&plan.name, model, &opts) {
+        Ok(r) => match (r.nonlinear_critical_speed, r.hopf) {
+            (Some((v, located)), _) => {
+                (rec.nonlinear_m_s, rec.nonlinear_located) = (Some(v), Some(located))
+            }
+            (None, None) => rec.failures.push(format!(
+                "nonlinear: V_NL unknown: {} (a subcritical branch from a Hopf point above the range could still fold back into it)",
+                r.stop_reason
+            )),
+            (None, Some(_)) => rec.failures.push(format!(
+                "nonlinear: no stable cycle found ({})",
+                r.stop_reason
+            )),
+        },
+        Err(e) => rec.failures.push(format!("nonlinear: {e}")),
+    }
+}
+
+#[cfg(test)]
+#[path = "point_tests.rs"]
+mod tests;

@@ -12,7 +12,22 @@ use super::spec::{Axis, SweepSpec};
 use super::SweepError;
 
 /// The columns after the axis columns, in order (the contract of `sweep.csv`).
-pub const RESULT_COLUMNS: [&str; 7] = [
+/// `stable_up_to_m_s` holds the top of the speed range when some result is above range.
+pub const RESULT_COLUMNS: [&str; 8] = [
+    "kalker_critical_speed_m_s",
+    "hopf_speed_m_s",
+    "nonlinear_critical_speed_m_s",
+    "status",
+    "kalker_frequency_hz",
+    "hopf_frequency_hz",
+    "nonlinear_located",
+    "stable_up_to_m_s",
+];
+
+/// The result columns written before `stable_up_to_m_s` existed (records format 1): no onset
+/// in the speed range was then a failed point. `sweep.csv` files of this form are still read;
+/// records files are refused (a resume would mix the two meanings).
+pub const FORMAT1_COLUMNS: [&str; 7] = [
     "kalker_critical_speed_m_s",
     "hopf_speed_m_s",
     "nonlinear_critical_speed_m_s",
@@ -42,14 +57,15 @@ pub fn row(r: &PointRecord) -> String {
     }
     let _ = write!(
         s,
-        ",{},{},{},{},{},{},{}",
+        ",{},{},{},{},{},{},{},{}",
         opt(r.kalker_m_s),
         opt(r.hopf_m_s),
         opt(r.nonlinear_m_s),
         r.status(),
         opt(r.kalker_frequency_hz),
         opt(r.hopf_frequency_hz),
-        opt(r.nonlinear_located)
+        opt(r.nonlinear_located),
+        opt(r.stable_up_to_m_s)
     );
     s
 }
@@ -79,6 +95,15 @@ pub fn records_preamble(spec: &SweepSpec, fingerprint: &str, shard: (usize, usiz
     )
 }
 
+/// Whether the header `cols` ends with the columns `tail`.
+fn ends_with(cols: &[String], tail: &[&str]) -> bool {
+    cols.len() >= tail.len()
+        && cols[cols.len() - tail.len()..]
+            .iter()
+            .zip(tail)
+            .all(|(a, b)| a == b)
+}
+
 fn bad(path: &Path, line: usize, problem: impl Into<String>) -> SweepError {
     SweepError::Records {
         path: path.display().to_string(),
@@ -101,23 +126,20 @@ fn parse_opt<T: std::str::FromStr>(
         .map_err(|_| bad(path, line, format!("column {col}: {s:?} is not a value")))
 }
 
-/// Parses one data row with `n_axes` axis columns.
+/// Parses one data row with `n_axes` axis columns and `n_results` result columns
+/// ([`RESULT_COLUMNS`] or the format-1 [`FORMAT1_COLUMNS`]).
 fn parse_row(
     path: &Path,
     line: usize,
-    n_axes: usize,
+    (n_axes, n_results): (usize, usize),
     text: &str,
 ) -> Result<PointRecord, SweepError> {
     let f: Vec<&str> = text.split(',').collect();
-    if f.len() != 1 + n_axes + RESULT_COLUMNS.len() {
+    if f.len() != 1 + n_axes + n_results {
         return Err(bad(
             path,
             line,
-            format!(
-                "{} columns, expected {}",
-                f.len(),
-                1 + n_axes + RESULT_COLUMNS.len()
-            ),
+            format!("{} columns, expected {}", f.len(), 1 + n_axes + n_results),
         ));
     }
     let id = f[0]
@@ -131,19 +153,24 @@ fn parse_row(
         })
         .collect::<Result<Vec<_>, _>>()?;
     let r = &f[1 + n_axes..];
-    let failures = match r[3] {
-        "ok" => Vec::new(),
-        s => match s.strip_prefix("failed: ") {
-            Some(why) => vec![why.to_string()],
-            None => {
-                return Err(bad(
-                    path,
-                    line,
-                    format!("status {s:?} is neither \"ok\" nor \"failed: ...\""),
-                ))
-            }
-        },
+    let (failures, above_range) =
+        super::point::parse_status(r[3]).map_err(|e| bad(path, line, e))?;
+    let stable_up_to_m_s = match r.get(7) {
+        Some(s) => parse_opt(path, line, RESULT_COLUMNS[7], s)?,
+        None => None,
     };
+    if above_range.is_empty() != stable_up_to_m_s.is_none() {
+        return Err(bad(
+            path,
+            line,
+            format!(
+                "status {:?} and {} {:?} disagree: a value is given exactly when some result is above range",
+                r[3],
+                RESULT_COLUMNS[7],
+                r.get(7).unwrap_or(&"")
+            ),
+        ));
+    }
     Ok(PointRecord {
         id,
         values,
@@ -154,6 +181,8 @@ fn parse_row(
         kalker_frequency_hz: parse_opt(path, line, RESULT_COLUMNS[4], r[4])?,
         hopf_frequency_hz: parse_opt(path, line, RESULT_COLUMNS[5], r[5])?,
         nonlinear_located: parse_opt(path, line, RESULT_COLUMNS[6], r[6])?,
+        above_range,
+        stable_up_to_m_s,
     })
 }
 
@@ -196,19 +225,30 @@ pub fn read_records(path: &Path) -> Result<RecordsFile, SweepError> {
                 );
             }
         } else if let Some(cols) = &columns {
-            rows.push(parse_row(
-                path,
-                n,
-                cols.len() - 1 - RESULT_COLUMNS.len(),
-                line,
-            )?);
+            let n_axes = cols.len() - 1 - RESULT_COLUMNS.len();
+            rows.push(parse_row(path, n, (n_axes, RESULT_COLUMNS.len()), line)?);
         } else {
             let cols: Vec<String> = line.split(',').map(str::to_string).collect();
-            if cols.len() < 2 + RESULT_COLUMNS.len() || cols[0] != "point_id" {
+            if cols.first().map(String::as_str) != Some("point_id") {
                 return Err(bad(
                     path,
                     n,
                     "expected the header line starting with point_id",
+                ));
+            }
+            if cols.len() > 1 + FORMAT1_COLUMNS.len() && ends_with(&cols, &FORMAT1_COLUMNS) {
+                return Err(SweepError::OldRecords {
+                    path: path.display().to_string(),
+                });
+            }
+            if cols.len() < 2 + RESULT_COLUMNS.len() || !ends_with(&cols, &RESULT_COLUMNS) {
+                return Err(bad(
+                    path,
+                    n,
+                    format!(
+                        "the header must be point_id, the axes, {}",
+                        RESULT_COLUMNS.join(", ")
+                    ),
                 ));
             }
             columns = Some(cols);
@@ -243,11 +283,16 @@ pub fn read_csv(path: &Path) -> Result<SweepCsv, SweepError> {
     let mut lines = text.lines().enumerate();
     let (_, head) = lines.next().ok_or_else(|| bad(path, 1, "empty file"))?;
     let columns: Vec<String> = head.split(',').map(str::to_string).collect();
-    let n_axes = columns.len().saturating_sub(1 + RESULT_COLUMNS.len());
-    if columns.first().map(String::as_str) != Some("point_id")
-        || n_axes == 0
-        || columns[1 + n_axes..] != RESULT_COLUMNS
-    {
+    // the current header, or the format-1 one (no stable_up_to_m_s column)
+    let n_results = if ends_with(&columns, &RESULT_COLUMNS) {
+        RESULT_COLUMNS.len()
+    } else if ends_with(&columns, &FORMAT1_COLUMNS) {
+        FORMAT1_COLUMNS.len()
+    } else {
+        0
+    };
+    let n_axes = columns.len().saturating_sub(1 + n_results);
+    if columns.first().map(String::as_str) != Some("point_id") || n_axes == 0 || n_results == 0 {
         return Err(bad(
             path,
             1,
@@ -259,7 +304,7 @@ pub fn read_csv(path: &Path) -> Result<SweepCsv, SweepError> {
     }
     let mut rows = lines
         .filter(|(_, l)| !l.is_empty())
-        .map(|(k, l)| parse_row(path, k + 1, n_axes, l))
+        .map(|(k, l)| parse_row(path, k + 1, (n_axes, n_results), l))
         .collect::<Result<Vec<_>, _>>()?;
     rows.sort_by_key(|r| r.id);
     Ok(SweepCsv {

@@ -29,6 +29,21 @@ fn speed_text(v: Option<f64>) -> String {
     })
 }
 
+/// The Pareto result of a row: its value, `> v_max` when above range, or `-`.
+fn result_text(plan: &TradePlan, r: &Row, long: bool) -> String {
+    match (r.result(plan.pareto), r.above_range(plan.pareto)) {
+        (Some(v), _) if long => speed_text(Some(v)),
+        (Some(v), _) => fmt_si(v),
+        (None, Some(top)) if long => format!(
+            "> {} m/s (stable to {} m/s: no onset in range)",
+            fmt_si(top),
+            fmt_si(top)
+        ),
+        (None, Some(top)) => format!("> {}", fmt_si(top)),
+        (None, None) => "-".into(),
+    }
+}
+
 /// The human-readable summary printed by `critspeed trade`.
 pub fn summary(study: &str, plan: &TradePlan, rows: &[Row], a: &[Assessment]) -> String {
     let key = &plan.objective.key;
@@ -38,9 +53,13 @@ pub fn summary(study: &str, plan: &TradePlan, rows: &[Row], a: &[Assessment]) ->
     }
     let failed = rows.iter().filter(|r| !r.ok()).count();
     let feasible = a.iter().filter(|x| x.feasible).count();
+    let above = rows
+        .iter()
+        .filter(|r| r.ok() && r.above.contains(&true))
+        .count();
     let _ = writeln!(
         s,
-        "feasible: {feasible} of {} points ({failed} failed, {} ok but infeasible)",
+        "feasible: {feasible} of {} points ({failed} failed, {} not failed but infeasible; {above} with results above the speed range)",
         rows.len(),
         rows.len() - feasible - failed
     );
@@ -53,7 +72,7 @@ pub fn summary(study: &str, plan: &TradePlan, rows: &[Row], a: &[Assessment]) ->
                 "best: point {}: {key} = {}; {p} = {}",
                 r.id,
                 objective_text(plan, r.axis(key)),
-                speed_text(r.result(plan.pareto))
+                result_text(plan, r, true)
             );
         }
         None => s.push_str("best: none (no point is feasible)\n"),
@@ -71,7 +90,7 @@ pub fn summary(study: &str, plan: &TradePlan, rows: &[Row], a: &[Assessment]) ->
     let _ = writeln!(s, "  {:>8}  {xh}  {vh}  feasible", "point");
     for i in front {
         let x = rows[i].axis(key).map_or("-".into(), |v| fmt_si(v * f));
-        let v = rows[i].result(plan.pareto).map_or("-".into(), fmt_si);
+        let v = result_text(plan, &rows[i], false);
         let mark = if a[i].best { " (best)" } else { "" };
         let id = &rows[i].id;
         let _ = writeln!(s, "  {id:>8}  {x:>wx$}  {v:>wv$}  {}{mark}", a[i].feasible);
@@ -95,6 +114,7 @@ pub fn json(study: &str, plan: &TradePlan, rows: &[Row], a: &[Assessment]) -> Va
             "point_id": rows[i].id,
             "objective_si": rows[i].axis(key),
             "speed_m_s": rows[i].result(plan.pareto),
+            "stable_up_to_m_s": rows[i].above_range(plan.pareto),
             "feasible": a[i].feasible,
         })
     };
@@ -123,7 +143,8 @@ pub fn plot(study: &str, plan: &TradePlan, rows: &[Row], a: &[Assessment]) -> Tr
         .filter_map(|(r, x)| {
             Some(TradePoint {
                 x: r.axis(key)? * f,
-                y: r.result(plan.pareto).filter(|_| r.ok()),
+                y: r.capped(plan.pareto).filter(|_| r.ok()),
+                above: r.result(plan.pareto).is_none() && r.above_range(plan.pareto).is_some(),
                 feasible: x.feasible,
                 pareto: x.pareto,
                 best: x.best,

@@ -73,12 +73,42 @@ fn value(row: &Row, t: &Target) -> Option<f64> {
     }
 }
 
+/// A constraint on a result that is only known to exceed `top` (no onset up to the top of the
+/// speed range): `at_least` holds when its bound is ≤ `top`; `at_most` never holds (violated
+/// when its bound is ≤ `top`, unknown above it: infeasible either way).
+fn check_above(name: &str, top: f64, c: &Constraint) -> Option<String> {
+    let stable = format!("stable to {} m/s (no onset in range)", fmt_si(top));
+    let low = c.at_least.filter(|lo| *lo > top).map(|lo| {
+        format!(
+            "{name} unknown: {stable}; cannot show ≥ {} m/s (widen the speed range)",
+            fmt_si(lo)
+        )
+    });
+    let high = c.at_most.map(|hi| {
+        if hi <= top {
+            format!(
+                "{name} > {} m/s ({stable}) > {} m/s",
+                fmt_si(top),
+                fmt_si(hi)
+            )
+        } else {
+            format!("{name} unknown: {stable}; cannot show ≤ {} m/s", fmt_si(hi))
+        }
+    });
+    low.or(high)
+}
+
 fn check(row: &Row, c: &Constraint) -> Option<String> {
     let (name, unit) = match &c.target {
         Target::Result(r) => (r.name(), "m/s"),
         Target::Axis { key, dim } => (key.as_str(), dim.si_unit()),
     };
     let Some(v) = value(row, &c.target) else {
+        if let Target::Result(r) = c.target {
+            if let Some(top) = row.above_range(r) {
+                return check_above(name, top, c);
+            }
+        }
         return Some(format!("{name} not available"));
     };
     let low = c.at_least.filter(|lo| v < *lo).map(|lo| ("<", lo));
@@ -112,7 +142,7 @@ pub fn assess(plan: &TradePlan, rows: &[Row]) -> Vec<Assessment> {
     let pts: Vec<Option<(f64, f64)>> = rows
         .iter()
         .map(
-            |r| match (r.ok(), r.axis(&plan.objective.key), r.result(plan.pareto)) {
+            |r| match (r.ok(), r.axis(&plan.objective.key), r.capped(plan.pareto)) {
                 (true, Some(x), Some(v)) => Some((x, v)),
                 _ => None,
             },
@@ -123,7 +153,7 @@ pub fn assess(plan: &TradePlan, rows: &[Row]) -> Vec<Assessment> {
         .iter()
         .zip(&reasons)
         .map(|(r, why)| match (why, r.axis(&plan.objective.key)) {
-            (None, Some(x)) => Some((x, r.result(plan.pareto))),
+            (None, Some(x)) => Some((x, r.capped(plan.pareto))),
             _ => None,
         })
         .collect();
@@ -144,3 +174,7 @@ pub fn assess(plan: &TradePlan, rows: &[Row]) -> Vec<Assessment> {
 #[cfg(test)]
 #[path = "select_tests.rs"]
 mod tests;
+
+#[cfg(test)]
+#[path = "above_tests.rs"]
+mod above_tests;

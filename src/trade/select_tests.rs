@@ -11,6 +11,8 @@ fn row(k: f64, c: f64, v: Option<f64>, status: &str) -> Row {
         axes: vec![(K.into(), k), (C.into(), c)],
         results: [v.map(|v| v - 5.0), None, v],
         status: status.into(),
+        above: [false; 3],
+        stable_up_to_m_s: None,
     }
 }
 

@@ -3,10 +3,14 @@
 //! `sweep.csv`: an optional `point_id` column, one column per swept key named by the key with
 //! its SI unit appended (`suspension.longitudinal_stiffness_n_per_m`), the result columns
 //! `kalker_critical_speed_m_s`, `hopf_speed_m_s`, `nonlinear_critical_speed_m_s` (empty when
-//! not computed or not found) and `status` (`ok` or the failure reason). Fields may be
-//! quoted (RFC 4180, one record per line).
+//! not computed or not found) and `status` (`ok`, `above range: <results>` or
+//! `failed: <reasons>`, see [`crate::sweep::point::parse_status`]); the optional
+//! `stable_up_to_m_s` (the top of the speed range of a point with results above range). Fields
+//! may be quoted (RFC 4180, one record per line).
 
 use super::{ResultKind, Target, TradeError, TradePlan};
+use crate::sweep::point::parse_status;
+use crate::sweep::Computed;
 
 /// One sweep point, as the trade sees it (SI values).
 #[derive(Clone, Debug, PartialEq)]
@@ -17,8 +21,12 @@ pub struct Row {
     pub axes: Vec<(String, f64)>,
     /// results (m/s) in [`ResultKind::ALL`] order; `None` = empty or not finite
     pub results: [Option<f64>; 3],
-    /// `ok` or the failure reason
+    /// `ok`, `above range: <results>`, or the failure reason
     pub status: String,
+    /// results (in [`ResultKind::ALL`] order) with no onset in the point's speed range
+    pub above: [bool; 3],
+    /// top of the speed range (m/s) when some result is above range
+    pub stable_up_to_m_s: Option<f64>,
 }
 
 impl Row {
@@ -34,10 +42,29 @@ impl Row {
         self.results[i].filter(|v| v.is_finite())
     }
 
-    /// Whether the sweep computed this point without failure.
+    /// Whether the sweep computed this point without failure: status `ok` or `above range: …`.
     pub fn ok(&self) -> bool {
-        self.status.trim() == "ok"
+        parse_status(self.status.trim()).is_ok_and(|(failures, _)| failures.is_empty())
     }
+
+    /// The top of the speed range (m/s) when result `r` had no onset in it (V > that speed).
+    pub fn above_range(&self, r: ResultKind) -> Option<f64> {
+        let i = ResultKind::ALL.iter().position(|k| *k == r)?;
+        self.stable_up_to_m_s
+            .filter(|v| self.above[i] && v.is_finite())
+    }
+
+    /// The result capped at the top of the speed range, min(V, v_max): the found value, or
+    /// v_max when above range. Known exactly for every point that has either.
+    pub fn capped(&self, r: ResultKind) -> Option<f64> {
+        self.result(r).or_else(|| self.above_range(r))
+    }
+}
+
+/// Which results a status names as above range (none for a status that is not a sweep's).
+fn above_flags(status: &str) -> [bool; 3] {
+    let above = parse_status(status.trim()).map_or(Vec::new(), |(_, a)| a);
+    Computed::ALL.map(|c| above.contains(&c))
 }
 
 /// A CSV table: header and string cells.
@@ -183,6 +210,7 @@ impl SweepTable {
             .column("status")
             .ok_or_else(|| self.missing("the point status".into(), "status".into()))?;
         let id = self.column("point_id");
+        let top = self.column("stable_up_to_m_s");
         let result_cols = ResultKind::ALL.map(|r| self.column(&r.column()));
         self.records
             .iter()
@@ -202,6 +230,8 @@ impl SweepTable {
                     axes,
                     results,
                     status: rec[status].trim().to_string(),
+                    above: above_flags(&rec[status]),
+                    stable_up_to_m_s: top.map(num).transpose()?.flatten(),
                 })
             })
             .collect()
