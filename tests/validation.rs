@@ -19,6 +19,8 @@ use common::{reference, root};
 
 #[path = "validation_sections/closed.rs"]
 mod closed_sections;
+#[path = "validation/dtu_wheel.rs"]
+mod dtu_wheel;
 #[path = "validation/profiles.rs"]
 mod profiles_section;
 #[path = "validation_sections/table.rs"]
@@ -198,7 +200,7 @@ fn dtu_section(s: &mut String) {
         s,
         "## 4. DTU wheel–rail table (RSGEO, 1:40, r0 = 0.425 m)\n"
     );
-    let _ = writeln!(s, "Kalker coefficients C11, C22, C23 of the table against critspeed's Kalker interpolation at the table's own a/b (its Poisson ratio is not stated; the spread over ν shows the sensitivity). The geometry columns need the profile contact solver (issue 5, not yet implemented).\n");
+    let _ = writeln!(s, "Kalker coefficients C11, C22, C23 of the table against critspeed's Kalker interpolation at the table's own a/b (its Poisson ratio is not stated; the spread over ν shows the sensitivity). The geometry columns are compared in sections 5 (the table as critspeed's geometry) and 7 (the table against critspeed's rigid contact of S1002 on UIC60).\n");
     let _ = writeln!(
         s,
         "| ν | rows | largest difference C11 | C22 | C23 |\n|---|---|---|---|---|"

@@ -1,7 +1,7 @@
 //! Section of `docs/VALIDATION.md`: the S1002/UIC60 1:40 rigid contact geometry against the
 //! DTU RSGEO table (DTU DYTSI, LGPL, `input/RSGEO/1o40/RSGEO.dat`, subsampled every 0.5 mm;
-//! r0 = 0.425 m, l0 = 0.75 m, rail inclination 1:40; profiles not named in that repository,
-//! likely S1002/UIC60), and the equivalent conicity of S1002/UIC60 against the range quoted
+//! r0 = 0.425 m, l0 = 0.75 m, rail inclination 1:40; profiles not named in that repository;
+//! its wheel is shown to be S1002 in `dtu_wheel.rs`), and the equivalent conicity of S1002/UIC60 against the range quoted
 //! in the literature.
 
 use std::fmt::Write as _;
@@ -42,11 +42,15 @@ pub struct Metrics {
     pub rms_b_rel: f64,
 }
 
-pub fn metrics(gauge_mm: f64) -> Metrics {
+/// The rigid-contact table of the DTU wheelset on S1002/UIC60 at `gauge_mm`.
+pub fn dtu_table(gauge_mm: f64) -> critspeed::contact::table::ContactTable {
     let origin = root().join("studies/dtu.toml");
     let plan = study::parse(&dtu_study(gauge_mm), &origin.display().to_string()).expect("plan");
-    let table = plan.model().expect("table").table;
-    let rows = table.rows();
+    plan.model().expect("table").table
+}
+
+pub fn metrics(gauge_mm: f64) -> Metrics {
+    let rows = dtu_table(gauge_mm).rows();
     let dtu = data_rows(&reference("dtu_rsgeo_1o40_subsampled.csv"));
     let (mut n, mut nt) = (0, 0);
     let (mut sr, mut mr, mut sd, mut sa, mut sb) = (0.0, 0.0f64, 0.0, 0.0, 0.0);
@@ -227,7 +231,8 @@ pub fn section(s: &mut String) {
     let _ = writeln!(s, "## 7. Real profiles: S1002 / UIC60 1:40 (issue 5)\n");
     let _ = writeln!(s, "Rigid contact of the Manchester-benchmark S1002 wheel and UIC60 rail (1:40) point lists (`studies/profiles/`), raw geometry (no smoothing), r0 = 0.425 m, l0 = 0.75 m, against the DTU RSGEO table (section 4's file; its profiles are not named). With the nominal gauge 1435 mm the DTU functions look like ours shifted by about 2.5 mm in y (DTU's flange contact starts near y = 9 mm, ours near 6.3 mm): DTU's placement of wheel and rail (gauge, flange-back spacing or gauge-point height) is not stated, so the gauge is fitted (0.5 mm steps, least rms rolling-radius difference). Hertz semi-axes are compared on the tread rows only (|δ| < 0.1 rad: DTU's normal force at the flange is not W/(2 cos δ)).\n");
     let _ = writeln!(s, "| gauge (mm) | rows | rms Δr_R | max Δr_R | rms Δδ_R | tread rows | rms a (rel.) | rms b (rel.) |\n|---|---|---|---|---|---|---|---|");
-    for m in [metrics(1435.0), best_fit()] {
+    let fit = best_fit();
+    for m in [metrics(1435.0), fit] {
         let _ = writeln!(
             s,
             "| {:.1} | {} | {:.3} mm | {:.3} mm | {:.4} rad | {} | {:.1} % | {:.1} % |",
@@ -241,7 +246,8 @@ pub fn section(s: &mut String) {
             100.0 * m.rms_b_rel
         );
     }
-    let _ = writeln!(s, "\nThe largest radius differences sit at the contact jumps: the S1002/UIC60 solve has a jump near the centre and one at the flange root, where DTU's contact point moves quickly but continuously (its profiles or its contact search differ slightly).\n");
+    let _ = writeln!(s, "\nThe largest radius differences sit at the contact jumps: the S1002/UIC60 solve has a jump near the centre and one at the flange root, where DTU's contact point moves quickly but continuously (its rail profile or its contact search differ slightly; its wheel is S1002, below).\n");
+    super::dtu_wheel::section(s, fit.gauge_mm);
     let amps = [1e-3, 2e-3, 3e-3, 4e-3];
     let c = conicities(&amps);
     let _ = writeln!(s, "EN 15302 equivalent conicity of `studies/s1002-uic60.toml` (gauge 1435 mm, flange-back spacing 1360 mm, the study's table: smoothing half-width 0.1 mm):\n\n| amplitude | tan γe |\n|---|---|");
