@@ -27,15 +27,7 @@ pub const RESULT_COLUMNS: [&str; 8] = [
 /// The result columns written before `stable_up_to_m_s` existed (records format 1): no onset
 /// in the speed range was then a failed point. `sweep.csv` files of this form are still read;
 /// records files are refused (a resume would mix the two meanings).
-pub const FORMAT1_COLUMNS: [&str; 7] = [
-    "kalker_critical_speed_m_s",
-    "hopf_speed_m_s",
-    "nonlinear_critical_speed_m_s",
-    "status",
-    "kalker_frequency_hz",
-    "hopf_frequency_hz",
-    "nonlinear_located",
-];
+pub const FORMAT1_COLUMNS: &[&str] = RESULT_COLUMNS.split_at(7).0;
 
 /// The CSV header line (without line break) for these axes.
 pub fn header(axes: &[Axis]) -> String {
@@ -236,7 +228,7 @@ pub fn read_records(path: &Path) -> Result<RecordsFile, SweepError> {
                     "expected the header line starting with point_id",
                 ));
             }
-            if cols.len() > 1 + FORMAT1_COLUMNS.len() && ends_with(&cols, &FORMAT1_COLUMNS) {
+            if cols.len() > 1 + FORMAT1_COLUMNS.len() && ends_with(&cols, FORMAT1_COLUMNS) {
                 return Err(SweepError::OldRecords {
                     path: path.display().to_string(),
                 });
@@ -286,7 +278,7 @@ pub fn read_csv(path: &Path) -> Result<SweepCsv, SweepError> {
     // the current header, or the format-1 one (no stable_up_to_m_s column)
     let n_results = if ends_with(&columns, &RESULT_COLUMNS) {
         RESULT_COLUMNS.len()
-    } else if ends_with(&columns, &FORMAT1_COLUMNS) {
+    } else if ends_with(&columns, FORMAT1_COLUMNS) {
         FORMAT1_COLUMNS.len()
     } else {
         0
