@@ -343,9 +343,11 @@ fn legend(doc: &mut Doc, h: &HeatMap, failed: usize) {
             "url(#failed)",
             Some("#555555"),
         );
-        let text = format!("failed point ({failed})");
+        let text = format!("no value ({failed})");
         doc.text(x + 32.0, y + 4.0, TICK_PX, "start", 0.0, &text);
-        y += 22.0;
+        let note = "(status in sweep.csv)";
+        doc.text(x + 32.0, y + 18.0, TICK_PX - 2.0, "start", 0.0, note);
+        y += 36.0;
     }
     let above = (0..h.z.len()).filter(|&k| is_above(h, k)).count();
     if let Some(a) = h.above.as_ref().filter(|_| above > 0) {

@@ -48,7 +48,7 @@ fn svg_has_labels_colour_bar_and_threshold() {
     ] {
         assert!(svg.contains(text), "missing {text}");
     }
-    assert!(!svg.contains("failed point"), "no failed point in this map");
+    assert!(!svg.contains("no value ("), "no failed point in this map");
     // contour labels are the nice levels
     let zs: Vec<f64> = h.z.iter().flatten().copied().collect();
     let (lo, hi) = zs
@@ -73,7 +73,7 @@ fn failed_points_are_hatched_and_listed() {
     let svg = heat_map_svg(&h).expect("valid map");
     let failed = h.z.iter().filter(|z| z.is_none()).count();
     assert!(failed > 0);
-    assert!(svg.contains(&format!("failed point ({failed})")));
+    assert!(svg.contains(&format!("no value ({failed})")));
     assert_eq!(svg.matches("fill=\"url(#failed)\"/>").count(), failed);
 }
 
@@ -230,7 +230,7 @@ fn above_range_cells_are_filled_not_hatched() {
     let cell = |fill: &str| svg.matches(&format!("fill=\"{fill}\"/>")).count();
     assert_eq!(cell("url(#failed)"), failed);
     assert_eq!(cell(ABOVE_FILL), above);
-    assert!(svg.contains(&format!("failed point ({failed})")));
+    assert!(svg.contains(&format!("no value ({failed})")));
     assert!(
         svg.contains(&format!("&gt; 100 m/s ({above})")),
         "legend entry"
