@@ -89,7 +89,7 @@ pub enum Command {
         study: PathBuf,
     },
     /// Parameter sweep: the critical speeds over the study's `[sweep]` grid, in parallel,
-    /// resumable, optionally one shard: out/<name>/sweep.csv and plots.
+    /// resumable, optionally one shard: `out/<name>/sweep.csv` and plots.
     Sweep(sweep::SweepArgs),
     /// Join the records files of a sharded sweep into sweep.csv (refuses other studies' files).
     Merge(sweep::MergeArgs),
