@@ -50,17 +50,22 @@ fn best_is_the_lowest_stiffness_meeting_the_linear_constraint() {
     // 9 log-spaced stiffnesses, 100..3000 N/mm, by index
     let ks: Vec<f64> = (0..9).map(|i| 1e5 * 30f64.powf(i as f64 / 8.0)).collect();
     let vs: Vec<Option<f64>> = ks.iter().map(|&k| linear_speed(&text, k)).collect();
-    let failed = 2; // one point recorded as failed, as a sweep would
+    // point 2 failed on V_L (no value), as a sweep records it: infeasible; point 6 failed on
+    // V_H only, which this trade does not read: it counts with its V_L
+    let (failed, other) = (2, 6);
     let mut csv = String::from(
         "point_id,suspension.longitudinal_stiffness_n_per_m,kalker_critical_speed_m_s,\
          hopf_speed_m_s,nonlinear_critical_speed_m_s,status,extra_column_hz\n",
     );
     for (i, (k, v)) in ks.iter().zip(&vs).enumerate() {
-        let v = v.map_or(String::new(), |v| v.to_string());
-        let status = if i == failed {
-            "failed: no hopf point; test"
-        } else {
-            "ok"
+        let v = match v {
+            Some(v) if i != failed => v.to_string(),
+            _ => String::new(),
+        };
+        let status = match i {
+            _ if i == failed => "failed: kalker: no convergence; test",
+            _ if i == other => "failed: hopf: no onset; test",
+            _ => "ok",
         };
         csv.push_str(&format!("{i},{k},{v},,,{status},1.5\n"));
     }
@@ -87,6 +92,10 @@ fn best_is_the_lowest_stiffness_meeting_the_linear_constraint() {
     assert!(
         best > 0,
         "the constraint should cut off the softest springs"
+    );
+    assert!(
+        feasible(other),
+        "point {other} exercises a failure the trade does not read"
     );
     let trade = std::fs::read_to_string(out_dir.join("trade.csv")).expect("trade.csv");
     let mut lines = trade.lines();

@@ -116,3 +116,60 @@ fn rows_read_the_status_and_the_range_top() {
         [false, true, false]
     );
 }
+
+/// A point whose V_NL is unknown (no Hopf point in range) but whose V_L was found.
+fn nl_unknown(k: f64, v_l: f64) -> Row {
+    Row {
+        id: k.to_string(),
+        axes: vec![(K.into(), k)],
+        results: [Some(v_l), None, None],
+        status: "failed: nonlinear: V_NL unknown: no Hopf point in range".into(),
+        above: [false, false, false],
+        stable_up_to_m_s: None,
+    }
+}
+
+fn kalker_plan(at_least: f64) -> TradePlan {
+    let mut p = plan(Some(at_least), None);
+    p.constraints[0].target = Target::Result(ResultKind::KalkerCriticalSpeed);
+    p.pareto = ResultKind::KalkerCriticalSpeed;
+    p
+}
+
+#[test]
+fn a_failure_on_a_result_the_trade_does_not_read_does_not_matter() {
+    let rows = [nl_unknown(1.0, 120.0), nl_unknown(2.0, 80.0)];
+    let a = assess(&kalker_plan(100.0), &rows);
+    assert!(a[0].feasible && a[0].best && a[0].pareto, "{:?}", a[0]);
+    assert!(
+        !a[1].feasible && a[1].reason.contains("< 100"),
+        "{:?}",
+        a[1]
+    );
+    // the same rows, constrained on V_NL: infeasible with the failure as the reason
+    let a = assess(&plan(Some(100.0), None), &rows);
+    assert!(
+        a.iter().all(|x| !x.feasible && !x.pareto && !x.best),
+        "{a:?}"
+    );
+    assert!(a[0].reason.contains("V_NL unknown"), "{}", a[0].reason);
+}
+
+#[test]
+fn a_point_with_every_result_failed_is_never_feasible_on_axis_constraints_alone() {
+    let mut r = nl_unknown(1.0, 120.0);
+    r.results = [None, None, None];
+    r.status = "failed: invalid parameters: lateral_stiffness must be > 0".into();
+    let mut p = plan(None, None);
+    p.constraints[0].target = Target::Axis {
+        key: K.into(),
+        dim: Dimension::Stiffness,
+    };
+    p.constraints[0].at_most = Some(10.0);
+    let a = assess(&p, &[r]);
+    assert!(
+        !a[0].feasible && a[0].reason.contains("invalid parameters"),
+        "{:?}",
+        a[0]
+    );
+}

@@ -7,9 +7,10 @@
 //! [`Assessment`] per row; [`table::trade_csv`] writes the result.
 //!
 //! Definitions (with *V* the Pareto result, by default the first constrained result):
-//! - a point is **feasible** when its sweep status is `ok` or `above range: …` (no result
-//!   failed), its objective value is present, and every constraint's value is present and
-//!   within its bounds. A result **above range** (no onset up to the top of the point's speed
+//! - a point is **feasible** when every result the trade reads (the constrained results and
+//!   *V*) was found or is above range ([`select::failed_for`] is false: a failure on a result
+//!   the trade does not read does not count), its objective value is present, and every
+//!   constraint's value is present and within its bounds. A result **above range** (no onset up to the top of the point's speed
 //!   range v_max, column `stable_up_to_m_s`) is only known to exceed v_max: it meets
 //!   `at_least X` iff X ≤ v_max; it never meets `at_most X` (violated for X ≤ v_max, unknown
 //!   for X > v_max), and the reason says "stable to v_max m/s (no onset in range)";
@@ -20,7 +21,7 @@
 //!   above-range points the one with the better objective is kept (ties: both);
 //! - point *a* **dominates** *b* when *a*'s objective is no worse and *a*'s capped *V* is no
 //!   lower, and one of the two is strictly better. The **Pareto front** is the set of points
-//!   with no failed result and finite objective and capped *V* that no such point dominates —
+//!   not failed on a result the trade reads, with finite objective and capped *V* that no such point dominates —
 //!   constraints are not applied to the front, so it shows the whole trade and the constraint
 //!   line on the plot shows which part of it is feasible;
 //! - the **best design** is the feasible point with the lowest (`minimize`) or highest

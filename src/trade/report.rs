@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use serde_json::{json, Value};
 
 use super::plan::fmt_si;
-use super::select::Assessment;
+use super::select::{failed_for, Assessment};
 use super::table::Row;
 use super::{display_unit, Sense, TradePlan};
 use crate::plot::{TradePlot, TradePoint};
@@ -51,17 +51,17 @@ pub fn summary(study: &str, plan: &TradePlan, rows: &[Row], a: &[Assessment]) ->
     for c in &plan.constraints {
         let _ = writeln!(s, "  subject to {}", c.text);
     }
-    let failed = rows.iter().filter(|r| !r.ok()).count();
+    let failed = rows.iter().filter(|r| failed_for(plan, r)).count();
     let feasible = a.iter().filter(|x| x.feasible).count();
     let above = rows
         .iter()
-        .filter(|r| r.ok() && r.above.contains(&true))
+        .filter(|r| !failed_for(plan, r) && r.above.contains(&true))
         .count();
     let _ = writeln!(
         s,
         "feasible: {feasible} of {} points ({failed} failed, {} not failed but infeasible; {above} with results above the speed range)",
         rows.len(),
-        rows.len() - feasible - failed
+        rows.len().saturating_sub(feasible + failed)
     );
     let p = plan.pareto.name();
     match a.iter().position(|x| x.best) {
@@ -126,7 +126,7 @@ pub fn json(study: &str, plan: &TradePlan, rows: &[Row], a: &[Assessment]) -> Va
         "pareto_result": plan.pareto.name(),
         "points": rows.len(),
         "feasible": a.iter().filter(|x| x.feasible).count(),
-        "failed": rows.iter().filter(|r| !r.ok()).count(),
+        "failed": rows.iter().filter(|r| failed_for(plan, r)).count(),
         "best": a.iter().position(|x| x.best).map(point),
         "front": front_order(plan, rows, a).into_iter().map(point).collect::<Vec<_>>(),
     })
@@ -143,7 +143,7 @@ pub fn plot(study: &str, plan: &TradePlan, rows: &[Row], a: &[Assessment]) -> Tr
         .filter_map(|(r, x)| {
             Some(TradePoint {
                 x: r.axis(key)? * f,
-                y: r.capped(plan.pareto).filter(|_| r.ok()),
+                y: r.capped(plan.pareto).filter(|_| !failed_for(plan, r)),
                 above: r.result(plan.pareto).is_none() && r.above_range(plan.pareto).is_some(),
                 feasible: x.feasible,
                 pareto: x.pareto,

@@ -2,7 +2,7 @@
 
 use super::plan::fmt_si;
 use super::table::Row;
-use super::{Constraint, Sense, Target, TradePlan};
+use super::{Constraint, ResultKind, Sense, Target, TradePlan};
 
 /// The verdict on one row of the sweep.
 #[derive(Clone, Debug, PartialEq)]
@@ -117,9 +117,24 @@ fn check(row: &Row, c: &Constraint) -> Option<String> {
         .map(|(op, b)| format!("{name} {} {unit} {op} {} {unit}", fmt_si(v), fmt_si(b)))
 }
 
+/// The results the trade reads: the constrained ones and the Pareto speed.
+fn read_results(plan: &TradePlan) -> impl Iterator<Item = ResultKind> + '_ {
+    let constrained = plan.constraints.iter().filter_map(|c| match c.target {
+        Target::Result(r) => Some(r),
+        Target::Axis { .. } => None,
+    });
+    constrained.chain(std::iter::once(plan.pareto))
+}
+
+/// Whether the point failed on a result the trade reads (neither found nor above range). A
+/// failure elsewhere does not count: V_NL unknown does not matter to a trade on V_L alone.
+pub fn failed_for(plan: &TradePlan, row: &Row) -> bool {
+    !row.ok() && read_results(plan).any(|r| row.capped(r).is_none())
+}
+
 /// Why `row` is infeasible, or `None` when it is feasible.
 pub fn infeasibility(plan: &TradePlan, row: &Row) -> Option<String> {
-    if !row.ok() {
+    if failed_for(plan, row) {
         let s = row.status.trim();
         return Some(if s.starts_with("failed") {
             s.to_string()
@@ -141,12 +156,16 @@ pub fn assess(plan: &TradePlan, rows: &[Row]) -> Vec<Assessment> {
     let reasons: Vec<Option<String>> = rows.iter().map(|r| infeasibility(plan, r)).collect();
     let pts: Vec<Option<(f64, f64)>> = rows
         .iter()
-        .map(
-            |r| match (r.ok(), r.axis(&plan.objective.key), r.capped(plan.pareto)) {
+        .map(|r| {
+            match (
+                !failed_for(plan, r),
+                r.axis(&plan.objective.key),
+                r.capped(plan.pareto),
+            ) {
                 (true, Some(x), Some(v)) => Some((x, v)),
                 _ => None,
-            },
-        )
+            }
+        })
         .collect();
     let front = pareto_front(sense, &pts);
     let candidates: Vec<Option<(f64, Option<f64>)>> = rows
