@@ -18,6 +18,7 @@ fn figure(title: &str, x_label: &str, y_label: &str) -> Figure {
         hlines: Vec::new(),
         x_range: None,
         y_range: None,
+        x_log: false,
     }
 }
 

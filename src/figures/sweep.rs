@@ -103,6 +103,7 @@ fn line_plot(
         &a.label(),
         "speed (m/s)",
     );
+    f.x_log = a.spacing == crate::sweep::Spacing::Log;
     let mut ys: Vec<f64> = threshold.iter().map(|t| t.0).collect();
     for (_, name, get) in picks(spec) {
         let pts: Vec<(f64, f64)> = a

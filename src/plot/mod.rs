@@ -50,6 +50,8 @@ pub struct Figure {
     pub x_range: Option<(f64, f64)>,
     /// Fixed y range; `None` = data and horizontal markers plus a small margin.
     pub y_range: Option<(f64, f64)>,
+    /// Logarithmic x axis (ticks at 1-2-5 × 10ⁿ or decades); non-positive x are not drawn.
+    pub x_log: bool,
 }
 
 /// A named set of `(x, y)` points with a drawing style.

@@ -3,7 +3,7 @@
 use super::overlay;
 use super::palette::{viridis, AXIS, GRID, TEXT};
 use super::prepare::{Mark, Prepared};
-use super::scale::{format_tick, text_width, tick_decimals, Axis};
+use super::scale::{format_tick, format_value, text_width, tick_decimals, Axis};
 use super::{backend_err, PlotError, SUPERSAMPLE};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -121,8 +121,18 @@ pub(crate) fn draw(area: &Area, p: &Prepared) -> Result<(), PlotError> {
     let y_area = m.px(18.0) + widest(&p.y.ticks(ny), yd, m.tick) + 1.2 * m.label;
     let plot_w = w - 2.0 * m.margin - y_area - bar_space;
     let (nx, xd) = x_ticks(&p.x, plot_w, &m);
+    let log_x = p.x_log.then(|| log_x_ticks(&p.x));
     // Room for half of the last x tick label when it sits at the right edge.
-    let x_overhang = (widest(&p.x.ticks(nx), xd, m.tick) / 2.0 - m.margin + m.px(2.0)).max(0.0);
+    let x_overhang = match &log_x {
+        None => widest(&p.x.ticks(nx), xd, m.tick) / 2.0,
+        Some(t) => {
+            t.iter()
+                .map(|t| text_width(&t.1, m.tick))
+                .fold(0.0, f64::max)
+                / 2.0
+        }
+    };
+    let x_overhang = (x_overhang - m.margin + m.px(2.0)).max(0.0);
 
     let mut chart = ChartBuilder::on(area)
         .margin(m.margin as u32)
@@ -136,7 +146,7 @@ pub(crate) fn draw(area: &Area, p: &Prepared) -> Result<(), PlotError> {
     let fy = move |v: &f64| format_tick(*v, yd);
     chart
         .configure_mesh()
-        .x_labels(nx)
+        .x_labels(if log_x.is_some() { 0 } else { nx })
         .y_labels(ny)
         .max_light_lines(0)
         .bold_line_style(GRID.stroke_width(m.thin))
@@ -150,6 +160,9 @@ pub(crate) fn draw(area: &Area, p: &Prepared) -> Result<(), PlotError> {
         .y_desc(p.y_title.as_str())
         .draw()
         .map_err(backend_err)?;
+    if let Some(ticks) = &log_x {
+        draw_log_x(&mut chart, p, ticks, &m)?;
+    }
     overlay::draw_marker_lines(&mut chart, p, &m)?;
     draw_series(&mut chart, p, &m)?;
     let frame = Rectangle::new(
@@ -162,6 +175,41 @@ pub(crate) fn draw(area: &Area, p: &Prepared) -> Result<(), PlotError> {
     overlay::draw_legend(&mut chart, p, &labels, &m)?;
     overlay::draw_bars(area, &chart, &bars, &m)?;
     draw_title(area, &chart, &p.title, title_px, &m)
+}
+
+/// Ticks of a log x axis (plotted units are log10 of the data): 1-2-5 × 10ⁿ or decades, with
+/// the data value as the label.
+fn log_x_ticks(x: &Axis) -> Vec<(f64, String)> {
+    super::svg::log_ticks(10f64.powf(x.lo), 10f64.powf(x.hi))
+        .into_iter()
+        .map(|v| (v.log10(), format_value(v)))
+        .filter(|(t, _)| x.contains(*t))
+        .collect()
+}
+
+/// Grid lines, tick marks and labels of a log x axis (plotters' own mesh is linear).
+fn draw_log_x(
+    chart: &mut Chart,
+    p: &Prepared,
+    ticks: &[(f64, String)],
+    m: &Metrics,
+) -> Result<(), PlotError> {
+    let grid = GRID.stroke_width(m.thin);
+    let axis = AXIS.stroke_width(m.thin);
+    let mark = m.px(5.0) as i32;
+    let style = font(m.tick)
+        .color(&TEXT)
+        .pos(Pos::new(HPos::Center, VPos::Top));
+    for (t, label) in ticks {
+        let area = chart.plotting_area();
+        area.draw(&PathElement::new(vec![(*t, p.y.lo), (*t, p.y.hi)], grid))
+            .map_err(backend_err)?;
+        let at = EmptyElement::at((*t, p.y.lo))
+            + PathElement::new(vec![(0, 0), (0, mark)], axis)
+            + Text::new(label.clone(), (0, mark + m.px(5.0) as i32), style.clone());
+        area.draw(&at).map_err(backend_err)?;
+    }
+    Ok(())
 }
 
 /// Title centred over the plot area, shifted if needed to stay inside the panel.

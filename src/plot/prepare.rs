@@ -73,6 +73,8 @@ pub(crate) struct Prepared {
     pub vlines: Vec<(f64, String)>,
     /// Visible horizontal markers (scaled y, label).
     pub hlines: Vec<(f64, String)>,
+    /// The x axis is logarithmic: plotted x is log10 of the data.
+    pub x_log: bool,
 }
 
 fn finite(p: &(f64, f64)) -> bool {
@@ -138,15 +140,35 @@ pub(crate) fn prepare(fig: &Figure) -> Result<Prepared, PlotError> {
             series: s.name.clone(),
         });
     }
+    // a log x axis plots log10(x); non-positive x become NaN and are not drawn
+    let lx = |v: f64| match (fig.x_log, v > 0.0) {
+        (false, _) => v,
+        (true, true) => v.log10(),
+        (true, false) => f64::NAN,
+    };
     let all = || {
         fig.series
             .iter()
             .flat_map(|s| s.points.iter())
-            .filter(|p| finite(p))
+            .map(|p| (lx(p.0), p.1))
+            .filter(finite)
     };
-    let vx = fig.vlines.iter().map(|m| m.at);
+    let vlines: Vec<Marker> = fig
+        .vlines
+        .iter()
+        .map(|m| Marker {
+            at: lx(m.at),
+            label: m.label.clone(),
+        })
+        .collect();
+    let vx = vlines.iter().map(|m| m.at);
     let hy = fig.hlines.iter().map(|m| m.at);
-    let x = Axis::resolve(fig.x_range, extent(all().map(|p| p.0).chain(vx)));
+    let x_extent = extent(all().map(|p| p.0).chain(vx));
+    let x = if fig.x_log {
+        Axis::resolve_log(fig.x_range.map(|(a, b)| (lx(a), lx(b))), x_extent)
+    } else {
+        Axis::resolve(fig.x_range, x_extent)
+    };
     let y = Axis::resolve(fig.y_range, extent(all().map(|p| p.1).chain(hy)));
     let rect = Rect {
         x0: x.lo,
@@ -154,7 +176,7 @@ pub(crate) fn prepare(fig: &Figure) -> Result<Prepared, PlotError> {
         y0: y.lo,
         y1: y.hi,
     };
-    let scaled = |p: &(f64, f64)| (p.0 * x.factor, p.1 * y.factor);
+    let scaled = |p: &(f64, f64)| (lx(p.0) * x.factor, p.1 * y.factor);
     let bars = colour_bars(fig);
     let mut items = Vec::new();
     let mut next_colour = 0;
@@ -201,7 +223,8 @@ pub(crate) fn prepare(fig: &Figure) -> Result<Prepared, PlotError> {
         y,
         items,
         bars,
-        vlines: visible_markers(&fig.vlines, &x),
+        vlines: visible_markers(&vlines, &x),
         hlines: visible_markers(&fig.hlines, &y),
+        x_log: fig.x_log,
     })
 }

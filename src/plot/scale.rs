@@ -28,6 +28,20 @@ impl Axis {
     /// Automatic ranges get a small margin; zero-width ranges are widened by
     /// ±10 % of the value (or ±1 around zero).
     pub fn resolve(requested: Option<(f64, f64)>, extent: Option<(f64, f64)>) -> Axis {
+        Self::resolve_with(requested, extent, None)
+    }
+
+    /// As [`Axis::resolve`] for an axis whose values are log10 of the data: no power of ten
+    /// is factored out (the tick labels show the data values themselves).
+    pub fn resolve_log(requested: Option<(f64, f64)>, extent: Option<(f64, f64)>) -> Axis {
+        Self::resolve_with(requested, extent, Some(0))
+    }
+
+    fn resolve_with(
+        requested: Option<(f64, f64)>,
+        extent: Option<(f64, f64)>,
+        exp: Option<i32>,
+    ) -> Axis {
         let user = requested
             .filter(|(a, b)| a.is_finite() && b.is_finite())
             .map(|(a, b)| (a.min(b), a.max(b)));
@@ -36,7 +50,7 @@ impl Axis {
             (None, Some(e)) => (e, true),
             (None, None) => ((0.0, 1.0), false),
         };
-        let exp = engineering_exponent(raw.0.abs().max(raw.1.abs()));
+        let exp = exp.unwrap_or_else(|| engineering_exponent(raw.0.abs().max(raw.1.abs())));
         let factor = 10f64.powi(-exp);
         let (mut lo, mut hi) = (raw.0 * factor, raw.1 * factor);
         let mag = lo.abs().max(hi.abs());

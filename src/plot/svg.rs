@@ -81,7 +81,7 @@ pub(crate) fn nice_ticks(lo: f64, hi: f64, n: usize) -> Vec<f64> {
     (first..=last).map(|k| k as f64 * step).collect()
 }
 
-fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+pub(crate) fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
     let (e0, e1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
     let mults: &[f64] = match e1 - e0 {
         0..=1 => &[1.0, 2.0, 3.0, 5.0],

@@ -281,3 +281,39 @@ fn degenerate_and_odd_ranges_do_not_panic() {
     };
     assert!(render_svg(&huge, 640, 400).is_ok());
 }
+
+/// x position (SVG units) of the text element whose content is exactly `label`.
+fn text_x(svg: &str, label: &str) -> Option<f64> {
+    let lines: Vec<&str> = svg.lines().collect();
+    lines.windows(2).find_map(|w| {
+        let x = w[0].strip_prefix("<text x=\"")?.split('"').next()?;
+        (w[1].trim() == label).then(|| x.parse().ok())?
+    })
+}
+
+#[test]
+fn log_x_axis_places_ticks_by_their_logarithm() {
+    // 1e5 … 3e6 on a log axis: ticks 1e5, 2e5, 5e5, 1e6, 2e6; the gap 1e5 → 2e5 is log10(2)
+    // of the decade 1e5 → 1e6. A point at x = 0 cannot be drawn and is skipped.
+    let mut pts: Vec<(f64, f64)> = (0..25)
+        .map(|i| {
+            let k = 1e5 * 30f64.powf(f64::from(i) / 24.0);
+            (k, 40.0 + 10.0 * (k / 1e5).ln())
+        })
+        .collect();
+    pts.push((0.0, 50.0));
+    let fig = Figure {
+        title: "log x".into(),
+        x_label: "stiffness (N/m)".into(),
+        y_label: "speed (m/s)".into(),
+        series: vec![line("V", pts, false)],
+        x_log: true,
+        ..Figure::default()
+    };
+    let svg = render_svg(&fig, 1000, 640).expect("renders");
+    let at = |l: &str| text_x(&svg, l).unwrap_or_else(|| panic!("tick {l} in the SVG"));
+    let (a, b, c) = (at("1e5"), at("2e5"), at("1e6"));
+    let ratio = (b - a) / (c - a);
+    assert!((ratio - 2f64.log10()).abs() < 2e-3, "{ratio}");
+    assert!(at("5e5") > b && at("2e6") > c);
+}
