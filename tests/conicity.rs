@@ -79,17 +79,7 @@ fn en15302_benchmark_cases_within_the_standards_tolerance() {
 fn seed_geometry_conicity_matches_the_linear_model() {
     let plan = critspeed::study::parse(critspeed::study::DEFAULT_STUDY, "seed").expect("seed");
     let model = plan.model().expect("model");
-    let rows = model.table.rows();
-    let n = rows.len();
-    let pts = (0..n)
-        .map(|k| {
-            (
-                rows[k].y,
-                rows[k].point.radius - rows[n - 1 - k].point.radius,
-            )
-        })
-        .collect();
-    let dr = DeltaR::new(pts, "seed").expect("table");
+    let dr = DeltaR::new(model.table.rolling_radius_difference(), "seed").expect("table");
     let c = dr.equivalent_conicity(1e-3).expect("fits");
     let lin = model.centre_conicity();
     assert!(

@@ -42,16 +42,7 @@ pub fn run(a: &ConicityArgs, root: &Path) -> Result<(), Failure> {
         (Some(study), None) => {
             let plan = load(study)?;
             let model = build(&plan)?;
-            let rows = model.table.rows();
-            let n = rows.len();
-            let pts = (0..n)
-                .map(|k| {
-                    (
-                        rows[k].y,
-                        rows[k].point.radius - rows[n - 1 - k].point.radius,
-                    )
-                })
-                .collect();
+            let pts = model.table.rolling_radius_difference();
             (
                 plan.name.clone(),
                 DeltaR::new(pts, &plan.name).map_err(compute)?,

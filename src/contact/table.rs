@@ -238,6 +238,18 @@ impl ContactTable {
         self.has_patch
     }
 
+    /// The rolling-radius difference r_R(y) − r_L(y) = r_R(y) − r_R(−y) (m) at every node,
+    /// as (y m, Δr m): the nodes are symmetric about y = 0, so node k's mirror is node n−1−k.
+    pub fn rolling_radius_difference(&self) -> Vec<(f64, f64)> {
+        let n = self.value.len();
+        (0..n)
+            .map(|k| {
+                let dr = self.value[k][RADIUS] - self.value[n - 1 - k][RADIUS];
+                (self.y0 + k as f64 * self.h, dr)
+            })
+            .collect()
+    }
+
     /// The nodes, for output.
     pub fn rows(&self) -> Vec<Row> {
         (0..self.value.len())

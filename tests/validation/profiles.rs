@@ -95,16 +95,11 @@ pub fn conicities(amplitudes: &[f64]) -> Vec<f64> {
     let origin = root().join("studies/s1002-uic60.toml");
     let text = std::fs::read_to_string(&origin).expect("study");
     let plan = study::parse(&text, &origin.display().to_string()).expect("plan");
-    let rows = plan.model().expect("table").table.rows();
-    let k = rows.len();
-    let pts = (0..k)
-        .map(|i| {
-            (
-                rows[i].y,
-                rows[i].point.radius - rows[k - 1 - i].point.radius,
-            )
-        })
-        .collect();
+    let pts = plan
+        .model()
+        .expect("table")
+        .table
+        .rolling_radius_difference();
     let dr = DeltaR::new(pts, "s1002-uic60").expect("Δr");
     amplitudes
         .iter()
@@ -158,17 +153,12 @@ table_points = 801
 "#;
     let origin = dir.join("e1.toml").display().to_string();
     let plan = study::parse(study, &origin).expect("E1 study");
-    let rows = plan.model().expect("E1 table").table.rows();
+    let dr = plan
+        .model()
+        .expect("E1 table")
+        .table
+        .rolling_radius_difference();
     let _ = std::fs::remove_dir_all(&dir);
-    let k = rows.len();
-    let dr: Vec<(f64, f64)> = (0..k)
-        .map(|i| {
-            (
-                rows[i].y,
-                rows[i].point.radius - rows[k - 1 - i].point.radius,
-            )
-        })
-        .collect();
     let table = DeltaR::new(dr.clone(), "E1").expect("Δr");
     let c = amplitudes
         .iter()
