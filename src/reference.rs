@@ -198,3 +198,51 @@ impl crate::system::ode::VectorField<2> for HopfNormalForm {
         )
     }
 }
+
+/// A bogie frame in the range of the DTU Cooperrider vehicle
+/// (`../shared/reference/dytsi_cooperrider_vehicle.md`: frame 2918.9 kg, 6780 kg m²,
+/// half wheelbase 1.074 m), for tests and benches.
+pub const REFERENCE_FRAME: crate::model::FrameParams = crate::model::FrameParams {
+    mass: 2918.9,
+    yaw_inertia: 6780.0,
+    roll_inertia: None,
+    half_wheelbase: 1.074,
+};
+
+/// A secondary suspension per side from the same sheet (k4, D2 lateral; k6, D6 longitudinal
+/// at ±1.5 m; the vertical k5, D1 at ±0.68 m; heights from the frame centre 0.6584 m).
+pub const REFERENCE_SECONDARY: crate::model::Secondary = crate::model::Secondary {
+    lateral_stiffness: 1.823e5,
+    longitudinal_stiffness: 9.0335e5,
+    lateral_damping: 2.92e4,
+    longitudinal_damping: 1.66669e5,
+    half_spring_spacing: 1.5,
+    yaw_damping: 0.0,
+    yaw_damper_half_spacing: 1.5,
+    vertical_stiffness: 3.333e5,
+    vertical_damping: 2.0e4,
+    vertical_half_spacing: 0.68,
+    height: 0.6584,
+};
+
+/// The car body of the same sheet (44388 kg; the yaw inertia 5.6e6 kg m² of the sheet's
+/// older model, not the 5.0e5 placeholder; roll 2.8e5 kg m²), secondary 0.9 m below its centre.
+pub const REFERENCE_CAR_BODY: crate::model::CarBodyParams = crate::model::CarBodyParams {
+    mass: 44388.0,
+    yaw_inertia: 5.6e6,
+    roll_inertia: None,
+    half_bogie_distance: 7.5,
+    secondary_height: -0.9,
+};
+
+/// The seed wheelset (on the 1:20 cone, seed creep coefficients) in a vehicle of `spec`.
+pub fn seed_vehicle(
+    spec: &crate::model::VehicleSpec,
+    law: CreepLaw,
+    spin: bool,
+) -> Result<crate::model::Vehicle, String> {
+    let ws = cone_wheelset(SEED_WHEELSET, SEED_SUSPENSION, SEED_CREEP, 0.05, law, spin)
+        .map_err(|e| e.to_string())?;
+    crate::model::layouts::build(spec, ws, &crate::model::PrimaryVertical::default())
+        .map_err(|e| e.to_string())
+}

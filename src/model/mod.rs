@@ -1,4 +1,6 @@
-//! The suspended wheelset: parameters and equations of motion (MODEL §1–8), nothing else.
+//! The models: the suspended wheelset's contact and equations of motion (MODEL §1–8), and
+//! vehicles assembled from bodies, elements and wheelsets (MODEL §11, [`vehicle`],
+//! [`layouts`]). Every analysis takes a [`Vehicle`]; the single wheelset is its 4-state layout.
 //!
 //! State $x = (y, ψ, \dot y, \dot ψ)$ (m, rad, m/s, rad/s), forward speed $V > 0$ (m/s).
 //! The one right-hand side [`Wheelset::rhs`] serves every analysis; it is generic over
@@ -6,6 +8,14 @@
 //!
 //! $$m\ddot y = F_{y,R} + F_{y,L} + F_N + F_f + F_s$$
 //! $$I_z\ddot ψ = l_0 (F_{x,L} − F_{x,R}) + M_{z,R} + M_{z,L} + M_s$$
+
+pub mod layouts;
+#[cfg(test)]
+mod tests;
+pub mod vehicle;
+
+pub use layouts::{CarBodyParams, FrameParams, PrimaryVertical, Secondary, VehicleSpec};
+pub use vehicle::{Attachment, Body, BodyKind, Element, Layout, Vehicle};
 
 use nalgebra::{Matrix4, Vector4};
 
@@ -126,12 +136,14 @@ impl Wheelset {
         }
     }
 
-    /// The right-hand side $f(x; V)$ of $\dot x = f(x; V)$.
+    /// The generalised contact forces on the wheelset, $(Q_y, Q_ψ)$ (N, N m): creep on both
+    /// wheels (after the creep law), the gravitational stiffness $F_N$ and the flange force
+    /// $F_f$ (MODEL §4–6), i.e. every term of §8 except the suspension. In a vehicle each
+    /// wheelset carries exactly these forces in its own state (MODEL §11).
     #[inline]
-    pub fn rhs<T: Scalar>(&self, x: &[T; 4], v: f64) -> [T; 4] {
+    pub fn contact_forces<T: Scalar>(&self, x: &[T; 4], v: f64) -> (T, T) {
         let p = &self.params;
-        let s = &self.suspension;
-        let [y, psi, ydot, psidot] = *x;
+        let y = x[0];
         let right = self.table.right(y);
         let left = self.table.left(y);
         let fr = self.wheel_force(&right, 1.0, x, v);
@@ -139,13 +151,27 @@ impl Wheelset {
         // gravitational stiffness, MODEL §4
         let f_n = -((right.angle.tan() - left.angle.tan()) * (p.axle_load / 2.0));
         let f_f = flange_force(self.flange.as_ref(), y);
+        (
+            fr.fy + fl.fy + f_n + f_f,
+            (fl.fx - fr.fx) * p.half_contact_distance + fr.mz + fl.mz,
+        )
+    }
+
+    /// The right-hand side $f(x; V)$ of $\dot x = f(x; V)$: MODEL §8 written out for the single
+    /// wheelset on a track-fixed frame. [`crate::model::Vehicle`] assembles the same model
+    /// from elements; this direct form is the reference it is tested against.
+    #[inline]
+    pub fn rhs<T: Scalar>(&self, x: &[T; 4], v: f64) -> [T; 4] {
+        let p = &self.params;
+        let s = &self.suspension;
+        let [y, psi, ydot, psidot] = *x;
+        let (q_y, q_psi) = self.contact_forces(x, v);
         let f_s = -(y * (2.0 * s.lateral_stiffness)) - ydot * (2.0 * s.lateral_damping);
         let d2 = s.half_spring_spacing * s.half_spring_spacing;
         let m_s = -(psi * (2.0 * s.longitudinal_stiffness * d2))
             - psidot * (2.0 * s.longitudinal_damping * d2);
-        let yddot = (fr.fy + fl.fy + f_n + f_f + f_s) / p.mass;
-        let psiddot =
-            ((fl.fx - fr.fx) * p.half_contact_distance + fr.mz + fl.mz + m_s) / p.yaw_inertia;
+        let yddot = (q_y + f_s) / p.mass;
+        let psiddot = (q_psi + m_s) / p.yaw_inertia;
         [ydot, psidot, yddot, psiddot]
     }
 
@@ -206,4 +232,36 @@ impl crate::system::ode::VectorField<4> for Wheelset {
             -x[0] - c
         }
     }
+}
+
+/// Runs `$body` with the const `$n` set to the state size `$states` of a vehicle (4, 12, 14,
+/// 28 or 34): the analyses are generic over the state size, and this is where a run-time size
+/// picks the compiled one. Any other size evaluates `$other`.
+#[macro_export]
+macro_rules! with_states {
+    ($states:expr, $n:ident => $body:expr, _ => $other:expr) => {
+        match $states {
+            4 => {
+                const $n: usize = 4;
+                $body
+            }
+            12 => {
+                const $n: usize = 12;
+                $body
+            }
+            14 => {
+                const $n: usize = 14;
+                $body
+            }
+            28 => {
+                const $n: usize = 28;
+                $body
+            }
+            34 => {
+                const $n: usize = 34;
+                $body
+            }
+            _ => $other,
+        }
+    };
 }
