@@ -7,9 +7,9 @@ use rayon::prelude::*;
 
 use crate::contact::creep::CreepLaw;
 use crate::contact::table::Row;
-use crate::model::Wheelset;
+use crate::model::{BodyKind, Vehicle};
 use crate::stability::{
-    critical_speeds, spectrum_at, CriticalSpeeds, LinearError, LinearSystem, Spectrum,
+    critical_speeds, spectrum_at, CriticalSpeeds, Crossing, LinearError, LinearSystem, Spectrum,
 };
 use crate::study::Plan;
 
@@ -30,6 +30,125 @@ pub struct LinearReport {
     pub spectrum_kalker: Vec<Spectrum>,
     /// spectra of the study's law on the same grid, when not Kalker
     pub spectrum_creep_law: Vec<Spectrum>,
+    /// the layout's name ("wheelset", "bogie", "car") and its number of states
+    pub layout: (&'static str, usize),
+    /// mode shape at each Kalker crossing (same order as `kalker.crossings`)
+    pub kalker_modes: Vec<Option<ModeShape>>,
+    /// mode shape at each crossing of the study's law, when not Kalker
+    pub creep_law_modes: Vec<Option<ModeShape>>,
+}
+
+/// One body's part of a mode shape.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyMode {
+    /// body name
+    pub body: String,
+    /// lateral amplitude |y| relative to the largest body's (–)
+    pub lateral: f64,
+    /// yaw amplitude |ψ| relative to the largest body's (–)
+    pub yaw: f64,
+    /// phase of y against the leading wheelset's y (degrees, −180…180)
+    pub lateral_phase_deg: f64,
+    /// phase of ψ against the leading wheelset's y (degrees)
+    pub yaw_phase_deg: f64,
+    /// largest lateral displacement of the body's ends (its centre, and the wheelsets or
+    /// bogie centres it carries, y ± x ψ) relative to the largest of all bodies (–)
+    pub reach: f64,
+}
+
+/// The eigenvector of a crossing pair, body by body (MODEL §11, "Reported for a vehicle").
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModeShape {
+    /// each body in state order
+    pub bodies: Vec<BodyMode>,
+    /// the body whose lateral displacement (`reach`) is largest
+    pub leading_body: String,
+    /// "wheelset hunting", "bogie hunting" (a wheelset or frame leads) or "car-body hunting"
+    pub label: &'static str,
+}
+
+/// The mode shape of the eigenvector `v` (one (re, im) per state) of `vehicle`.
+pub fn mode_shape(vehicle: &Vehicle, v: &[(f64, f64)]) -> Option<ModeShape> {
+    let c = |i: usize| v.get(i).map(|z| nalgebra::Complex::new(z.0, z.1));
+    let reference = c(vehicle.wheelset_dofs()[0])?;
+    let phase = |z: nalgebra::Complex<f64>| {
+        let r = z / reference;
+        if reference.norm() > 0.0 {
+            r.arg().to_degrees()
+        } else {
+            0.0
+        }
+    };
+    // how far each body reaches: its ends are where it carries the next bodies
+    let ends = |kind: BodyKind| match vehicle.layout_arms() {
+        (a, lb) => match kind {
+            BodyKind::Wheelset => 0.0,
+            BodyKind::Frame => a,
+            BodyKind::CarBody => lb,
+        },
+    };
+    let raw: Vec<(
+        String,
+        nalgebra::Complex<f64>,
+        nalgebra::Complex<f64>,
+        f64,
+        BodyKind,
+    )> = vehicle
+        .bodies
+        .iter()
+        .map(|b| {
+            let (y, psi) = (c(b.dof)?, c(b.dof + 1)?);
+            let arm = ends(b.kind);
+            let reach = (y + psi * arm).norm().max((y - psi * arm).norm());
+            Some((b.name.clone(), y, psi, reach, b.kind))
+        })
+        .collect::<Option<_>>()?;
+    let max_y = raw.iter().map(|r| r.1.norm()).fold(0.0, f64::max);
+    let max_psi = raw.iter().map(|r| r.2.norm()).fold(0.0, f64::max);
+    let max_reach = raw.iter().map(|r| r.3).fold(0.0, f64::max);
+    let lead = raw.iter().max_by(|a, b| a.3.total_cmp(&b.3))?;
+    let label = match (vehicle.layout, lead.4) {
+        (crate::model::Layout::Wheelset, _) => "wheelset hunting",
+        (_, BodyKind::CarBody) => "car-body hunting",
+        _ => "bogie hunting",
+    };
+    let rel = |a: f64, m: f64| if m > 0.0 { a / m } else { 0.0 };
+    Some(ModeShape {
+        leading_body: lead.0.clone(),
+        label,
+        bodies: raw
+            .iter()
+            .map(|(name, y, psi, reach, _)| BodyMode {
+                body: name.clone(),
+                lateral: rel(y.norm(), max_y),
+                yaw: rel(psi.norm(), max_psi),
+                lateral_phase_deg: phase(*y),
+                yaw_phase_deg: phase(*psi),
+                reach: rel(*reach, max_reach),
+            })
+            .collect(),
+    })
+}
+
+/// Mode shapes of every crossing: the eigenvector of the pair at the crossing's frequency.
+fn modes<const N: usize>(
+    vehicle: &Vehicle,
+    sys: &LinearSystem<N>,
+    found: &CriticalSpeeds,
+) -> Vec<Option<ModeShape>> {
+    found
+        .crossings
+        .iter()
+        .map(|c: &Crossing| {
+            let sp = spectrum_at(&sys.jacobian(c.speed_m_s), c.speed_m_s)?;
+            let omega = 2.0 * std::f64::consts::PI * c.frequency_hz;
+            let pair = sp.pairs.iter().min_by(|a, b| {
+                a.re.hypot(a.im - omega)
+                    .total_cmp(&b.re.hypot(b.im - omega))
+            })?;
+            mode_shape(vehicle, &pair.vector)
+        })
+        .collect()
 }
 
 impl LinearReport {
@@ -40,7 +159,11 @@ impl LinearReport {
 }
 
 /// Spectra on `n` speeds spread uniformly over `range`, computed in parallel (order kept).
-pub fn spectrum_grid(sys: &LinearSystem, range: (f64, f64), n: usize) -> Vec<Spectrum> {
+pub fn spectrum_grid<const N: usize>(
+    sys: &LinearSystem<N>,
+    range: (f64, f64),
+    n: usize,
+) -> Vec<Spectrum> {
     let n = n.max(2);
     (0..n)
         .into_par_iter()
@@ -51,20 +174,35 @@ pub fn spectrum_grid(sys: &LinearSystem, range: (f64, f64), n: usize) -> Vec<Spe
         .collect()
 }
 
-/// The linear analysis: Kalker critical speeds, the creep law's Hopf speeds, spectra.
-pub fn linear(plan: &Plan, model: &Wheelset) -> Result<LinearReport, LinearError> {
+/// The linear analysis: Kalker critical speeds, the creep law's Hopf speeds, spectra and mode
+/// shapes, for a vehicle of any layout: the quartic Hurwitz scan for the 4-state wheelset,
+/// the eigenvalue scan for more states.
+pub fn linear(plan: &Plan, model: &Vehicle) -> Result<LinearReport, LinearError> {
+    crate::with_states!(model.states(), N => linear_states::<N>(plan, model),
+        _ => Err(LinearError::States(model.states())))
+}
+
+/// [`linear`] for a vehicle of `N` states (`N` = [`Vehicle::states`]).
+pub fn linear_states<const N: usize>(
+    plan: &Plan,
+    model: &Vehicle,
+) -> Result<LinearReport, LinearError> {
     let kalker_model = model.with_law(CreepLaw::Kalker);
-    let ks = LinearSystem::at_centre(&kalker_model);
+    let ks = LinearSystem::<N>::at_centre(&kalker_model);
     let kalker = critical_speeds(&ks, CreepLaw::Kalker, &plan.linear)?;
     let range = plan.linear.speed_range;
     let spectrum_kalker = spectrum_grid(&ks, range, plan.spectrum_points);
-    let (creep_law, spectrum_creep_law) = match model.creep_law {
-        CreepLaw::Kalker => (None, Vec::new()),
+    let kalker_modes = modes(model, &ks, &kalker);
+    let (creep_law, spectrum_creep_law, creep_law_modes) = match model.creep_law() {
+        CreepLaw::Kalker => (None, Vec::new(), Vec::new()),
         law => {
-            let ls = LinearSystem::at_centre(model);
+            let ls = LinearSystem::<N>::at_centre(model);
+            let found = critical_speeds(&ls, law, &plan.linear)?;
+            let m = modes(model, &ls, &found);
             (
-                Some(critical_speeds(&ls, law, &plan.linear)?),
+                Some(found),
                 spectrum_grid(&ls, range, plan.spectrum_points),
+                m,
             )
         }
     };
@@ -76,6 +214,9 @@ pub fn linear(plan: &Plan, model: &Wheelset) -> Result<LinearReport, LinearError
         klingel_wavelength_m: model.klingel_wavelength(),
         spectrum_kalker,
         spectrum_creep_law,
+        layout: (model.layout.name(), model.states()),
+        kalker_modes,
+        creep_law_modes,
     })
 }
 
@@ -95,12 +236,13 @@ pub struct GeometryReport {
 }
 
 /// The geometry table of a model.
-pub fn geometry(plan: &Plan, model: &Wheelset) -> GeometryReport {
+pub fn geometry(plan: &Plan, model: &Vehicle) -> GeometryReport {
+    let table = &model.contact.table;
     GeometryReport {
         study: plan.name.clone(),
-        rows: model.table.rows(),
+        rows: table.rows(),
         centre_conicity: model.centre_conicity(),
-        jumps: model.table.jumps().to_vec(),
-        clamped: model.table.clamped.clone(),
+        jumps: table.jumps().to_vec(),
+        clamped: table.clamped.clone(),
     }
 }

@@ -7,11 +7,12 @@
 
 use nalgebra::{DVector, SVector};
 
+use crate::model::Vehicle;
+
 use crate::contact::creep::CreepLaw;
 use crate::continuation::{
     Branch, BranchStop, Continuation, ContinuationParams, OrbitPoint, Shooting, SpecialKind,
 };
-use crate::model::Wheelset;
 use crate::stability::{critical_speeds, spectrum_at, Crossing, LinearOptions, LinearSystem};
 use crate::system::ode::{integrate_observed, integrate_to_section, OdeOptions, Tolerances};
 
@@ -67,7 +68,7 @@ impl HopfType {
 }
 
 /// One cycle of the branch, for output.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct CycleRow {
     /// speed (m/s)
     pub speed_m_s: f64,
@@ -85,11 +86,14 @@ pub struct CycleRow {
     pub trivial_multiplier_error: f64,
     /// Newton iterations of the corrector (solver statistic)
     pub newton_iterations: usize,
-    /// the cycle's start state (y m, ψ rad, ẏ m/s, ψ̇ rad/s): integrating from it at this
-    /// speed reproduces the cycle
-    pub x0: [f64; 4],
-    /// the four Floquet multipliers (re, im), by decreasing modulus
-    pub multipliers: [(f64, f64); 4],
+    /// the cycle's start state, in [`BifurcationReport::state_names`] order (y m, ψ rad,
+    /// ẏ m/s, ψ̇ rad/s for the wheelset): integrating from it at this speed reproduces the cycle
+    pub x0: Vec<f64>,
+    /// the Floquet multipliers (re, im), one per state, by decreasing modulus
+    pub multipliers: Vec<(f64, f64)>,
+    /// each body's amplitudes (max |y| m, max |ψ| rad) over the cycle, in body order
+    /// (vehicles only; empty for the single wheelset, whose are the two columns above)
+    pub body_amplitudes: Vec<(f64, f64)>,
 }
 
 /// A special point of the branch, for output.
@@ -129,6 +133,12 @@ pub struct BifurcationReport {
     pub stop_reason: String,
     /// centred motion: speed ranges (m/s) where it is stable (Kalker model of the study law)
     pub speed_range: (f64, f64),
+    /// the layout ("wheelset", "bogie", "car")
+    pub layout: &'static str,
+    /// the bodies, in state order
+    pub body_names: Vec<String>,
+    /// the state components with their SI units ([`state_names`])
+    pub state_names: Vec<String>,
 }
 
 fn ode_options(rtol: f64) -> Result<OdeOptions, String> {
@@ -142,20 +152,26 @@ fn ode_options(rtol: f64) -> Result<OdeOptions, String> {
 /// One periodic-orbit solve: the symmetric hunting cycle of `model` at `speed` (m/s), by
 /// Newton from a guess of its start state and period (e.g. a neighbouring branch cycle, or a
 /// settled simulation). Returns the cycle, its Floquet multipliers and the iterations used.
-pub fn cycle_at(
-    model: &Wheelset,
+pub fn cycle_at<const N: usize>(
+    model: &Vehicle,
     speed: f64,
-    x0: [f64; 4],
+    x0: [f64; N],
     period: f64,
     rtol: f64,
-) -> Result<(OrbitPoint<4>, crate::continuation::Floquet, usize), String> {
+) -> Result<(OrbitPoint<N>, crate::continuation::Floquet, usize), String> {
+    if N != model.states() {
+        return Err(format!(
+            "a start state of {N} values for a model of {} states",
+            model.states()
+        ));
+    }
     let ode = ode_options(rtol)?;
-    let amplitude = |_: &OrbitPoint<4>| 0.0;
-    let mut params = ContinuationParams::new(
-        (0.0, f64::INFINITY),
-        f64::INFINITY,
-        vec![1e-3, 1e-3, 1e-2, 1e-2, period, 1.0],
-    );
+    let amplitude = |_: &OrbitPoint<N>| 0.0;
+    let mut scale: Vec<f64> = (0..N)
+        .map(|i| if i < N / 2 { 1e-3 } else { 1e-2 })
+        .collect();
+    scale.extend([period, 1.0]);
+    let mut params = ContinuationParams::new((0.0, f64::INFINITY), f64::INFINITY, scale);
     params.newton_tol = (10.0 * rtol).max(1e-10);
     params.newton_max_iter = 20;
     let c = Continuation {
@@ -182,9 +198,9 @@ pub fn cycle_at(
 /// located on the dense output. If that section is not reached (a cycle whose component has
 /// no interior maximum is not expected, but the integrator may also fail), fall back to the
 /// largest of 400 samples over the period; NaN only if both integrations fail.
-fn peak(model: &Wheelset, o: &OrbitPoint<4>, k: usize, ode: &OdeOptions) -> f64 {
-    let rate = k + 2;
-    let section = move |x: &SVector<f64, 4>| -x[rate];
+fn peak<const N: usize>(model: &Vehicle, o: &OrbitPoint<N>, k: usize, ode: &OdeOptions) -> f64 {
+    let rate = k + N / 2;
+    let section = move |x: &SVector<f64, N>| -x[rate];
     let located = integrate_to_section(
         model,
         o.param,
@@ -200,25 +216,68 @@ fn peak(model: &Wheelset, o: &OrbitPoint<4>, k: usize, ode: &OdeOptions) -> f64 
     let samples: Vec<f64> = (0..=400).map(|i| o.period * i as f64 / 400.0).collect();
     let mut max = f64::NAN;
     let mut observe =
-        |_: f64, x: &SVector<f64, 4>| max = x[k].abs().max(if max.is_nan() { 0.0 } else { max });
+        |_: f64, x: &SVector<f64, N>| max = x[k].abs().max(if max.is_nan() { 0.0 } else { max });
     match integrate_observed(model, o.param, &o.x0, o.period, ode, &samples, &mut observe) {
         Ok(_) => max,
         Err(_) => f64::NAN,
     }
 }
 
+/// Every body's (max |y|, max |ψ|) over one period, from 1024 uniform samples with a
+/// parabola through each largest sample and its neighbours (relative error of order 1e-8
+/// for a smooth cycle).
+fn body_amplitudes<const N: usize>(
+    model: &Vehicle,
+    o: &OrbitPoint<N>,
+    ode: &OdeOptions,
+) -> Vec<(f64, f64)> {
+    const SAMPLES: usize = 1024;
+    let times: Vec<f64> = (0..=SAMPLES)
+        .map(|i| o.period * i as f64 / SAMPLES as f64)
+        .collect();
+    let mut rows: Vec<[f64; N]> = Vec::with_capacity(times.len());
+    let mut observe = |_: f64, x: &SVector<f64, N>| rows.push(std::array::from_fn(|i| x[i]));
+    if integrate_observed(model, o.param, &o.x0, o.period, ode, &times, &mut observe).is_err()
+        || rows.len() < 3
+    {
+        return vec![(f64::NAN, f64::NAN); model.bodies.len()];
+    }
+    let amplitude = |k: usize| {
+        let v: Vec<f64> = rows.iter().map(|r| r[k].abs()).collect();
+        let Some((i, &m)) = v.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)) else {
+            return f64::NAN;
+        };
+        if i == 0 || i + 1 >= v.len() {
+            return m;
+        }
+        // vertex of the parabola through (−1, a), (0, b), (1, c)
+        let (a, b, c) = (v[i - 1], v[i], v[i + 1]);
+        let den = a - 2.0 * b + c;
+        if den >= 0.0 {
+            m
+        } else {
+            b - (c - a) * (c - a) / (8.0 * den)
+        }
+    };
+    model
+        .bodies
+        .iter()
+        .map(|b| (amplitude(b.dof), amplitude(b.dof + 1)))
+        .collect()
+}
+
 /// The Hopf crossing of `law` in the range, and the eigenvector of its critical pair
 /// normalised so that its y-component is 1.
-fn hopf_point(
-    model: &Wheelset,
+fn hopf_point<const N: usize>(
+    model: &Vehicle,
     range: (f64, f64),
-) -> Option<(Crossing, [nalgebra::Complex<f64>; 4])> {
-    let sys = LinearSystem::at_centre(model);
+) -> Option<(Crossing, Vec<nalgebra::Complex<f64>>)> {
+    let sys = LinearSystem::<N>::at_centre(model);
     let opts = LinearOptions {
         speed_range: range,
         ..LinearOptions::default()
     };
-    let found = critical_speeds(&sys, model.creep_law, &opts).ok()?;
+    let found = critical_speeds(&sys, model.creep_law(), &opts).ok()?;
     let c = *found.critical()?;
     let sp = spectrum_at(&sys.jacobian(c.speed_m_s), c.speed_m_s)?;
     let omega = 2.0 * std::f64::consts::PI * c.frequency_hz;
@@ -226,19 +285,22 @@ fn hopf_point(
         a.re.hypot(a.im - omega)
             .total_cmp(&b.re.hypot(b.im - omega))
     })?;
-    let q: [nalgebra::Complex<f64>; 4] =
-        std::array::from_fn(|i| nalgebra::Complex::new(pair.vector[i].0, pair.vector[i].1));
-    let qy = q[0];
+    let q: Vec<nalgebra::Complex<f64>> = pair
+        .vector
+        .iter()
+        .map(|v| nalgebra::Complex::new(v.0, v.1))
+        .collect();
+    let qy = *q.first()?;
     if qy.norm() == 0.0 {
         return None;
     }
-    Some((c, q.map(|v| v / qy)))
+    Some((c, q.into_iter().map(|v| v / qy).collect()))
 }
 
-/// Runs the bifurcation analysis of `model` (its own creep law).
+/// Runs the bifurcation analysis of `model` (its own creep law), any layout.
 pub fn analyse(
     study: &str,
-    model: &Wheelset,
+    model: &Vehicle,
     opts: &BifurcationOptions,
 ) -> Result<BifurcationReport, String> {
     analyse_with_progress(study, model, opts, None)
@@ -247,14 +309,49 @@ pub fn analyse(
 /// [`analyse`], calling `progress(cycle index, speed m/s, amplitude m)` after each cycle.
 pub fn analyse_with_progress(
     study: &str,
-    model: &Wheelset,
+    model: &Vehicle,
+    opts: &BifurcationOptions,
+    progress: Option<&(dyn Fn(usize, f64, f64) + Sync)>,
+) -> Result<BifurcationReport, String> {
+    crate::with_states!(model.states(), N => analyse_states::<N>(study, model, opts, progress),
+        _ => Err(format!("no analysis is compiled for {} states", model.states())))
+}
+
+/// The state components with their SI units: the 4-state names of `branch.csv` for the
+/// wheelset, `<coordinate>_m`, `<coordinate>_rad` and their rates for a vehicle.
+pub fn state_names(model: &Vehicle) -> Vec<String> {
+    if model.states() == 4 {
+        return ["y_m", "psi_rad", "ydot_m_s", "psidot_rad_s"]
+            .map(String::from)
+            .to_vec();
+    }
+    let coordinates = model.coordinate_names();
+    let unit = |n: &str, rate: bool| {
+        let (head, tail) = n.split_once('_').unwrap_or((n, ""));
+        let dot = if rate { "dot" } else { "" };
+        let si = match (head, rate) {
+            ("y", false) => "m",
+            ("y", true) => "m_s",
+            (_, false) => "rad",
+            (_, true) => "rad_s",
+        };
+        format!("{head}{dot}_{tail}_{si}")
+    };
+    let pos = coordinates.iter().map(|n| unit(n, false));
+    pos.chain(coordinates.iter().map(|n| unit(n, true)))
+        .collect()
+}
+
+fn analyse_states<const N: usize>(
+    study: &str,
+    model: &Vehicle,
     opts: &BifurcationOptions,
     progress: Option<&(dyn Fn(usize, f64, f64) + Sync)>,
 ) -> Result<BifurcationReport, String> {
     let ode = ode_options(opts.rtol)?;
     let kalker = model.with_law(CreepLaw::Kalker);
     let kalker_critical_speed_m_s = critical_speeds(
-        &LinearSystem::at_centre(&kalker),
+        &LinearSystem::<N>::at_centre(&kalker),
         CreepLaw::Kalker,
         &LinearOptions {
             speed_range: opts.speed_range,
@@ -265,7 +362,7 @@ pub fn analyse_with_progress(
     .and_then(|c| c.critical().map(|x| x.speed_m_s));
     let mut report = BifurcationReport {
         study: study.to_string(),
-        law: model.creep_law,
+        law: model.creep_law(),
         kalker_critical_speed_m_s,
         hopf: None,
         hopf_type: None,
@@ -274,11 +371,14 @@ pub fn analyse_with_progress(
         special: Vec::new(),
         stop_reason: String::new(),
         speed_range: opts.speed_range,
+        layout: model.layout.name(),
+        body_names: model.bodies.iter().map(|b| b.name.clone()).collect(),
+        state_names: state_names(model),
     };
-    let Some((hopf, q)) = hopf_point(model, opts.speed_range) else {
+    let Some((hopf, q)) = hopf_point::<N>(model, opts.speed_range) else {
         report.stop_reason = format!(
             "no Hopf point of the {} model in [{}, {}] m/s: the centred motion does not lose stability there",
-            model.creep_law.name(),
+            model.creep_law().name(),
             opts.speed_range.0,
             opts.speed_range.1
         );
@@ -287,15 +387,19 @@ pub fn analyse_with_progress(
     report.hopf = Some(hopf);
     let omega = 2.0 * std::f64::consts::PI * hopf.frequency_hz;
     let a_ref = 1e-3;
-    let psi_ratio = q[1].norm().max(1e-6);
-    let scale = vec![
-        a_ref,
-        a_ref * psi_ratio,
-        a_ref * omega,
-        a_ref * omega * psi_ratio,
-        1.0 / hopf.frequency_hz,
-        1.0,
-    ];
+    // each coordinate scaled by its share of the Hopf eigenvector (the leading wheelset's y is
+    // 1): 1 mm of lateral amplitude ≈ 1 m/s of speed in the arclength
+    let mut scale: Vec<f64> = (0..N)
+        .map(|i| {
+            let share = q[i % (N / 2)].norm().max(1e-6);
+            if i < N / 2 {
+                a_ref * share
+            } else {
+                a_ref * omega * share
+            }
+        })
+        .collect();
+    scale.extend([1.0 / hopf.frequency_hz, 1.0]);
     let mut params = ContinuationParams::new(opts.speed_range, opts.max_amplitude, scale.clone());
     params.ds_initial = 0.1;
     params.ds_max = opts.ds_max;
@@ -303,9 +407,9 @@ pub fn analyse_with_progress(
     // Newton cannot converge below the integration noise: tie its tolerance to rtol.
     params.newton_tol = (10.0 * opts.rtol).max(1e-10);
     let amp_ode = ode;
-    let amplitude = move |o: &OrbitPoint<4>| peak(model, o, 0, &amp_ode);
+    let amplitude = move |o: &OrbitPoint<N>| peak(model, o, 0, &amp_ode);
     let counter = std::sync::atomic::AtomicUsize::new(0);
-    let report_point = |p: &crate::continuation::BranchPoint<4>| {
+    let report_point = |p: &crate::continuation::BranchPoint<N>| {
         if let Some(f) = progress {
             let k = counter.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             f(k, p.orbit.param, p.amplitude);
@@ -328,8 +432,8 @@ pub fn analyse_with_progress(
         period: 1.0 / hopf.frequency_hz,
         param: hopf.speed_m_s,
     };
-    let direction = DVector::from_fn(6, |i, _| {
-        if i < 4 {
+    let direction = DVector::from_fn(N + 2, |i, _| {
+        if i < N {
             a_ref * q[i].re / scale[i]
         } else {
             0.0
@@ -340,7 +444,12 @@ pub fn analyse_with_progress(
     Ok(report)
 }
 
-fn fill(report: &mut BifurcationReport, branch: &Branch<4>, model: &Wheelset, ode: &OdeOptions) {
+fn fill<const N: usize>(
+    report: &mut BifurcationReport,
+    branch: &Branch<N>,
+    model: &Vehicle,
+    ode: &OdeOptions,
+) {
     report.cycles = branch
         .points
         .iter()
@@ -353,13 +462,20 @@ fn fill(report: &mut BifurcationReport, branch: &Branch<4>, model: &Wheelset, od
             max_multiplier_abs: p.floquet.max_nontrivial,
             trivial_multiplier_error: p.floquet.trivial_error,
             newton_iterations: p.newton_iterations,
-            x0: [p.orbit.x0[0], p.orbit.x0[1], p.orbit.x0[2], p.orbit.x0[3]],
-            multipliers: std::array::from_fn(|k| {
-                p.floquet
-                    .multipliers
-                    .get(k)
-                    .map_or((f64::NAN, f64::NAN), |m| (m.re, m.im))
-            }),
+            x0: p.orbit.x0.iter().copied().collect(),
+            multipliers: (0..N)
+                .map(|k| {
+                    p.floquet
+                        .multipliers
+                        .get(k)
+                        .map_or((f64::NAN, f64::NAN), |m| (m.re, m.im))
+                })
+                .collect(),
+            body_amplitudes: if N == 4 {
+                Vec::new()
+            } else {
+                body_amplitudes(model, &p.orbit, ode)
+            },
         })
         .collect();
     report.special = branch
@@ -434,8 +550,9 @@ mod tests {
             max_multiplier_abs: if stable { 0.5 } else { 2.0 },
             trivial_multiplier_error: 0.0,
             newton_iterations: 2,
-            x0: [0.0; 4],
-            multipliers: [(1.0, 0.0); 4],
+            x0: vec![0.0; 4],
+            multipliers: vec![(1.0, 0.0); 4],
+            body_amplitudes: Vec::new(),
         }
     }
 
@@ -471,6 +588,9 @@ mod tests {
             special: vec![fold(110.2)],
             stop_reason: String::new(),
             speed_range: (1.0, 200.0),
+            layout: "wheelset",
+            body_names: vec!["wheelset 1".into()],
+            state_names: Vec::new(),
         };
         let v = nonlinear_critical_speed(&r).map(|v| v.0);
         assert!(v.is_some_and(|v| (v - 100.0).abs() < 1e-12), "{v:?}");

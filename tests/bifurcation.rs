@@ -9,7 +9,7 @@ use critspeed::study;
 use critspeed::system::ode::{integrate, OdeOptions, Tolerances};
 use nalgebra::SVector;
 
-fn load(name: &str) -> (study::Plan, critspeed::model::Wheelset) {
+fn load(name: &str) -> (study::Plan, critspeed::model::Vehicle) {
     let path = format!("{}/studies/{name}", env!("CARGO_MANIFEST_DIR"));
     let plan = study::load(std::path::Path::new(&path)).expect("study loads");
     let model = plan.model().expect("model builds");
@@ -31,7 +31,7 @@ fn cycles_are_periodic_and_symmetric() {
     let r = analyse(&plan.name, &model, &plan.bifurcation_options()).expect("analysis runs");
     assert!(r.cycles.len() > 20, "{}", r.stop_reason);
     for c in r.cycles.iter().step_by(7) {
-        let x0 = SVector::<f64, 4>::from(c.x0);
+        let x0 = SVector::<f64, 4>::from_column_slice(&c.x0);
         let full = integrate(&model, c.speed_m_s, &x0, c.period_s, &tight()).expect("integrates");
         let half =
             integrate(&model, c.speed_m_s, &x0, 0.5 * c.period_s, &tight()).expect("integrates");

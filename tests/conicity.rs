@@ -78,7 +78,7 @@ fn en15302_benchmark_cases_within_the_standards_tolerance() {
 #[test]
 fn seed_geometry_conicity_matches_the_linear_model() {
     let plan = critspeed::study::parse(critspeed::study::DEFAULT_STUDY, "seed").expect("seed");
-    let model = plan.model().expect("model");
+    let model = plan.wheelset_model().expect("model");
     let dr = DeltaR::new(model.table.rolling_radius_difference(), "seed").expect("table");
     let c = dr.equivalent_conicity(1e-3).expect("fits");
     let lin = model.centre_conicity();

@@ -268,8 +268,8 @@ fn s1002_uic60_study_tabulates_with_jumps_reported() {
     let plan = critspeed::study::load(&root().join("studies/s1002-uic60.toml")).expect("study");
     let model = plan.model().expect("table");
     // S1002/UIC60 1:40 has contact-point jumps (tread to flange root); they are reported
-    assert!(!model.table.jumps().is_empty());
-    for j in model.table.jumps() {
+    assert!(!model.contact.table.jumps().is_empty());
+    for j in model.contact.table.jumps() {
         assert!((j.wheel_offset_m.0 - j.wheel_offset_m.1).abs() > 5e-4);
     }
 }

@@ -9,14 +9,14 @@ use std::sync::OnceLock;
 
 use critspeed::bifurcation::{analyse, BifurcationOptions, BifurcationReport, CycleRow, HopfType};
 use critspeed::contact::creep::CreepLaw;
-use critspeed::model::Wheelset;
+use critspeed::model::{layouts::single, Vehicle};
 use critspeed::reference::{cone_wheelset, SEED_CREEP, SEED_SUSPENSION, SEED_WHEELSET};
 use critspeed::simulate::*;
 use critspeed::study;
 use critspeed::system::ode::{integrate_to_section, OdeOptions, Solution, Tolerances};
 use nalgebra::SVector;
 
-fn seed_hunting() -> Wheelset {
+fn seed_hunting() -> Vehicle {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/seed-hunting.toml");
     let plan = study::load(&path).expect("studies/seed-hunting.toml is valid");
     plan.model().expect("its contact table builds")
@@ -41,7 +41,7 @@ fn ode(rtol: f64) -> OdeOptions {
 
 /// The next maximum of y (ẏ from + to −) after `min_time`.
 fn next_max(
-    m: &Wheelset,
+    m: &Vehicle,
     v: f64,
     x: &SVector<f64, 4>,
     min_time: f64,
@@ -55,7 +55,7 @@ fn next_max(
 
 fn cycle_near(speed: f64) -> CycleRow {
     let r = branch();
-    *r.cycles
+    r.cycles
         .iter()
         .min_by(|a, b| {
             (a.speed_m_s - speed)
@@ -63,6 +63,7 @@ fn cycle_near(speed: f64) -> CycleRow {
                 .total_cmp(&(b.speed_m_s - speed).abs())
         })
         .expect("the branch has cycles")
+        .clone()
 }
 
 #[test]
@@ -72,9 +73,9 @@ fn simulation_settles_on_the_continued_cycle() {
     let v = row.speed_m_s;
     let o = ode(1e-11);
     // 40 s ≈ 190 periods; the slowest nontrivial multiplier (≈ 0.88) leaves < 1e-9 of the start
-    let hist = simulate(&m, v, [0.005, 0.0, 0.0, 0.0], 40.0, 0.01, &o).expect("simulation runs");
+    let hist = simulate(&m, v, &[0.005, 0.0, 0.0, 0.0], 40.0, 0.01, &o).expect("simulation runs");
     let last = hist.x.last().expect("samples");
-    let a = next_max(&m, v, &SVector::from(*last), 1e-9, &o);
+    let a = next_max(&m, v, &SVector::<f64, 4>::from_column_slice(last), 1e-9, &o);
     let b = next_max(&m, v, &a.x, 0.5 * row.period_s, &o);
     let (amp, period) = (a.x[0], b.t);
     eprintln!(
@@ -223,11 +224,11 @@ fn en14363_rms_on_the_cycle_is_the_fundamental() {
     let row = cycle_near(75.0);
     let v = row.speed_m_s;
     let o = ode(1e-10);
-    let hist = simulate(&m, v, [0.005, 0.0, 0.0, 0.0], 40.0, 0.01, &o).expect("simulation runs");
+    let hist = simulate(&m, v, &[0.005, 0.0, 0.0, 0.0], 40.0, 0.01, &o).expect("simulation runs");
     let start = next_max(
         &m,
         v,
-        &SVector::from(*hist.x.last().expect("samples")),
+        &SVector::<f64, 4>::from_column_slice(hist.x.last().expect("samples")),
         1e-9,
         &o,
     );
@@ -235,7 +236,7 @@ fn en14363_rms_on_the_cycle_is_the_fundamental() {
     let one = simulate(
         &m,
         v,
-        start.x.into(),
+        start.x.as_slice(),
         row.period_s,
         row.period_s / n as f64,
         &o,
@@ -273,15 +274,18 @@ fn sum_of_guiding_forces_is_creep_plus_gravitational_force_on_the_cone() {
     // Kalker creep without spin on the closed-form cone (MODEL §3–5):
     // ΣY = −2 f22 (ẏ/V − ψ) − (W/2)(tan(λ + φ) − tan(λ − φ)), φ = λy/l0
     let lambda = 0.05;
-    let m = cone_wheelset(
-        SEED_WHEELSET,
-        SEED_SUSPENSION,
-        SEED_CREEP,
-        lambda,
-        CreepLaw::Kalker,
-        false,
+    let m = single(
+        cone_wheelset(
+            SEED_WHEELSET,
+            SEED_SUSPENSION,
+            SEED_CREEP,
+            lambda,
+            CreepLaw::Kalker,
+            false,
+        )
+        .expect("table builds"),
     )
-    .expect("table builds");
+    .expect("assembles");
     let p = SEED_WHEELSET;
     for (x, v) in [
         ([0.0, 0.0, 0.0, 0.0], 50.0),

@@ -75,7 +75,7 @@ fn sweep_points_equal_single_point_runs() {
             r.hopf_m_s,
             lin.law_crossings().critical().map(|c| c.speed_m_s)
         );
-        assert!(matches!(model.creep_law, CreepLaw::Shen { .. }));
+        assert!(matches!(model.creep_law(), CreepLaw::Shen { .. }));
         let b =
             bifurcation::analyse(&plan.name, &model, &plan.bifurcation_options()).expect("branch");
         assert_eq!(r.nonlinear_m_s, b.nonlinear_critical_speed.map(|v| v.0));

@@ -83,7 +83,7 @@ speed_range = ["1 m/s", "150 m/s"]
 
 fn critical(text: &str, law: CreepLaw) -> f64 {
     let plan = study::parse(text, "test").expect("study");
-    let model = plan.model().expect("model").with_law(law);
+    let model = plan.wheelset_model().expect("model").with_law(law);
     let opts = LinearOptions {
         speed_range: (1.0, 150.0),
         ..LinearOptions::default()
@@ -134,7 +134,7 @@ fn dtu_plan() -> study::Plan {
 /// Track symmetry (MODEL §3): the left wheel is the right wheel at −y, so f(−x) = −f(x).
 #[test]
 fn the_tabulated_wheelset_is_odd_symmetric() {
-    let model = dtu_plan().model().expect("model");
+    let model = dtu_plan().wheelset_model().expect("model");
     for x in [
         [1e-3, 2e-4, 0.01, -0.003],
         [-5.5e-3, -1e-3, 0.2, 0.01],
@@ -252,7 +252,7 @@ fn the_committed_dtu_table_is_the_documented_conversion() {
 #[test]
 fn dtu_wheelset_hunts_at_the_kinematic_wavelength() {
     let plan = dtu_plan();
-    let model = plan.model().expect("model");
+    let model = plan.wheelset_model().expect("model");
     let law = CreepLaw::Kalker;
     let sys = LinearSystem::at_centre(&model.with_law(law));
     let c = *critical_speeds(&sys, law, &plan.linear)
@@ -273,7 +273,7 @@ fn dtu_wheelset_hunts_at_the_kinematic_wavelength() {
 #[test]
 fn tabulated_model_jacobian_and_spin_free_identity() {
     let mut plan = dtu_plan();
-    let model = plan.model().expect("model");
+    let model = plan.wheelset_model().expect("model");
     let h = [1e-7, 1e-7, 1e-6, 1e-6];
     for x in [[1e-3, 2e-4, 0.01, -0.003], [-4.3e-3, -1e-3, 0.2, 0.01]] {
         let xv = nalgebra::Vector4::from(x);
@@ -296,7 +296,7 @@ fn tabulated_model_jacobian_and_spin_free_identity() {
         }
     }
     plan.contact.spin = false;
-    let model = plan.model().expect("model");
+    let model = plan.wheelset_model().expect("model");
     let speed = |law| {
         let sys = LinearSystem::at_centre(&model.with_law(law));
         critical_speeds(&sys, law, &plan.linear)
@@ -330,7 +330,7 @@ fn an_undershooting_spline_is_refused() {
         path.display().to_string()
     ));
     let plan = study::parse(&study, "step").expect("study");
-    let e = plan.model().map(|_| ()).unwrap_err().to_string();
+    let e = plan.wheelset_model().map(|_| ()).unwrap_err().to_string();
     let _ = std::fs::remove_dir_all(&dir);
     assert!(e.contains("step.csv") && e.contains("column b"), "{e}");
 }

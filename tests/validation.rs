@@ -40,7 +40,7 @@ fn pct(a: f64, b: f64) -> String {
 
 fn critical(study_text: &str, law: CreepLaw, range: (f64, f64)) -> Option<f64> {
     let plan = study::parse(study_text, "validation").expect("study");
-    let model = plan.model().expect("model").with_law(law);
+    let model = plan.wheelset_model().expect("model").with_law(law);
     let opts = LinearOptions {
         speed_range: range,
         ..LinearOptions::default()

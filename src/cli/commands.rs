@@ -9,7 +9,7 @@ use super::{table, Cli, Command, Failure};
 use crate::analysis::{self, GeometryReport, LinearReport};
 use crate::bifurcation::BifurcationReport;
 use crate::figures;
-use crate::model::Wheelset;
+use crate::model::Vehicle;
 use crate::output;
 use crate::study::units::{parse_quantity, Dimension};
 use crate::study::{self, Plan};
@@ -96,7 +96,12 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
         Command::Check { study } => {
             let plan = load(study)?;
             let sections = super::trade::check_sections(study)?;
-            results(&format!("{}{sections}", table::plan(&plan)))?;
+            let model = build(&plan)?;
+            results(&format!(
+                "{}{}{sections}",
+                table::plan(&plan),
+                table::vehicle(&model)
+            ))?;
             Ok(())
         }
     }
@@ -106,7 +111,7 @@ pub(super) fn load(path: &Path) -> Result<Plan, Failure> {
     study::load(path).map_err(user)
 }
 
-pub(super) fn build(plan: &Plan) -> Result<Wheelset, Failure> {
+pub(super) fn build(plan: &Plan) -> Result<Vehicle, Failure> {
     plan.model()
         .with_context(|| format!("building the contact geometry of study '{}'", plan.name))
         .map_err(compute)
@@ -126,7 +131,7 @@ pub(super) fn write(dir: &Path, file: &str, bytes: &[u8]) -> Result<(), Failure>
     Ok(())
 }
 
-fn linear(plan: &Plan, model: &Wheelset, root: &Path) -> Result<LinearReport, Failure> {
+fn linear(plan: &Plan, model: &Vehicle, root: &Path) -> Result<LinearReport, Failure> {
     let report = analysis::linear(plan, model)
         .context("linear stability analysis")
         .map_err(compute)?;
@@ -144,7 +149,7 @@ fn linear(plan: &Plan, model: &Wheelset, root: &Path) -> Result<LinearReport, Fa
     Ok(report)
 }
 
-fn bifurcation(plan: &Plan, model: &Wheelset, root: &Path) -> Result<BifurcationReport, Failure> {
+fn bifurcation(plan: &Plan, model: &Vehicle, root: &Path) -> Result<BifurcationReport, Failure> {
     let opts = plan.bifurcation_options();
     statusln!(
         "continuing the hunting cycles of '{}' over [{}, {}] m/s (up to {} cycles, amplitude {} mm)",
@@ -206,7 +211,7 @@ pub(super) fn argument(flag: &str, text: &str, dim: Dimension) -> Result<f64, Fa
 
 fn simulate(
     plan: &Plan,
-    model: &Wheelset,
+    model: &Vehicle,
     root: &Path,
     speeds: &[f64],
     y0: f64,
@@ -224,9 +229,16 @@ fn simulate(
             plan.name,
             y0 * 1e3
         );
-        let h = crate::simulate::simulate(model, v, [y0, 0.0, 0.0, 0.0], duration, dt, &ode)
-            .with_context(|| format!("time simulation at {v} m/s"))
-            .map_err(compute)?;
+        let h = crate::simulate::simulate(
+            model,
+            v,
+            &crate::simulate::lateral_start(model, y0),
+            duration,
+            dt,
+            &ode,
+        )
+        .with_context(|| format!("time simulation at {v} m/s"))
+        .map_err(compute)?;
         runs.push(h);
     }
     let dir = out_dir(root, plan)?;
@@ -237,7 +249,7 @@ fn simulate(
     Ok(())
 }
 
-fn geometry(plan: &Plan, model: &Wheelset, root: &Path) -> Result<GeometryReport, Failure> {
+fn geometry(plan: &Plan, model: &Vehicle, root: &Path) -> Result<GeometryReport, Failure> {
     let g = analysis::geometry(plan, model);
     let dir = out_dir(root, plan)?;
     write(&dir, "geometry.csv", output::geometry_csv(&g).as_bytes())?;

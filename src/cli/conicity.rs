@@ -42,7 +42,7 @@ pub fn run(a: &ConicityArgs, root: &Path) -> Result<(), Failure> {
         (Some(study), None) => {
             let plan = load(study)?;
             let model = build(&plan)?;
-            let pts = model.table.rolling_radius_difference();
+            let pts = model.contact.table.rolling_radius_difference();
             (
                 plan.name.clone(),
                 DeltaR::new(pts, &plan.name).map_err(compute)?,

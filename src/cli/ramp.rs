@@ -140,18 +140,26 @@ fn en14363_csv(r: &RampResult) -> String {
 pub fn run(a: &RampArgs, root: &Path) -> Result<(), Failure> {
     let plan = load(&a.study)?;
     let model = build(&plan)?;
+    if model.states() != 4 {
+        return Err(user(anyhow!(
+            "study '{}' is a {} ({} states): the ramp method runs on the single wheelset so far",
+            plan.name,
+            model.layout.name(),
+            model.states()
+        )));
+    }
     let start = match &a.start {
         Some(s) => argument("--start", s, Dimension::Speed)?,
         None => {
-            let sys = LinearSystem::at_centre(&model);
-            let hopf = critical_speeds(&sys, model.creep_law, &plan.linear)
+            let sys = LinearSystem::<4>::at_centre(&model);
+            let hopf = critical_speeds(&sys, model.creep_law(), &plan.linear)
                 .map_err(compute)?
                 .critical()
                 .map(|c| c.speed_m_s)
                 .ok_or_else(|| {
                     user(anyhow!(
                         "the {} model has no Hopf point in [{}, {}] m/s: give --start",
-                        model.creep_law.name(),
+                        model.creep_law().name(),
                         plan.linear.speed_range.0,
                         plan.linear.speed_range.1
                     ))
@@ -168,7 +176,7 @@ pub fn run(a: &RampArgs, root: &Path) -> Result<(), Failure> {
     o.settle = argument("--settle", &a.settle, Dimension::Time)?;
     o.threshold = argument("--threshold", &a.threshold, Dimension::Length)?;
     o.validate().map_err(user)?;
-    if model.creep_law == CreepLaw::Kalker {
+    if model.creep_law() == CreepLaw::Kalker {
         statusln!("note: with Kalker's unbounded creep law no limit cycle exists; the ramp tells only growth or decay");
     }
     statusln!(

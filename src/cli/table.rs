@@ -194,6 +194,7 @@ pub fn plan(p: &Plan) -> String {
         "suspension.half_spring_spacing",
         format!("{} m", u.half_spring_spacing),
     );
+    vehicle_lines(p, &mut line);
     match &c.geometry {
         &Geometry::Cone { conicity } => {
             line("contact.geometry", "cone".into());
@@ -371,4 +372,155 @@ pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> String {
         );
     }
     s
+}
+
+/// The assembled vehicle for `critspeed check`: bodies with their coordinates in state order,
+/// then every element with its attachment points (SI).
+pub fn vehicle(v: &crate::model::Vehicle) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "vehicle: {} ({} states: the coordinates below, then their rates in the same order)",
+        v.layout.name(),
+        v.states()
+    );
+    let names = v.coordinate_names();
+    for b in &v.bodies {
+        let coords = &names[b.dof..b.dof + b.dofs()];
+        let roll = b
+            .roll_inertia
+            .map_or(String::new(), |r| format!(", roll inertia {r} kg m^2"));
+        let _ = writeln!(
+            s,
+            "  body {:<11} x = {:>7} m  mass {} kg, yaw inertia {} kg m^2{roll}; states {}..{}: {}",
+            b.name,
+            b.position_m,
+            b.mass,
+            b.yaw_inertia,
+            b.dof,
+            b.dof + b.dofs() - 1,
+            coords.join(", ")
+        );
+    }
+    let end = |a: &crate::model::Attachment| {
+        let name = a
+            .body
+            .and_then(|i| v.bodies.get(i))
+            .map_or("track", |b| b.name.as_str());
+        let [x, y, z] = a.point;
+        format!("{name} ({x}, {y}, {z}) m")
+    };
+    let _ = writeln!(
+        s,
+        "elements ({}; k in N/m and c in N s/m along x, y, z; points in each body's axes, z down):",
+        v.elements.len()
+    );
+    for e in &v.elements {
+        let _ = writeln!(
+            s,
+            "  {:<34} {} -> {}  k = {:?}  c = {:?}",
+            e.name,
+            end(&e.a),
+            end(&e.b),
+            e.stiffness,
+            e.damping
+        );
+    }
+    s
+}
+
+/// The plan's `[vehicle]`, primary vertical, `[bogie]`, `[secondary]` and `[carbody]` values.
+fn vehicle_lines(p: &Plan, line: &mut impl FnMut(&str, String)) {
+    use crate::model::VehicleSpec;
+    let pv = &p.primary_vertical;
+    let kind = match p.vehicle {
+        VehicleSpec::Wheelset => "wheelset",
+        VehicleSpec::Bogie { .. } => "bogie",
+        VehicleSpec::Car { .. } => "car",
+    };
+    line("vehicle.kind", kind.into());
+    line(
+        "suspension.vertical_stiffness",
+        format!("{} N/m", pv.stiffness),
+    );
+    line(
+        "suspension.vertical_damping",
+        format!("{} N s/m", pv.damping),
+    );
+    line("suspension.height", format!("{} m", pv.height));
+    let (frame, sec, body) = match &p.vehicle {
+        VehicleSpec::Wheelset => return,
+        VehicleSpec::Bogie { frame, secondary } => (frame, secondary, None),
+        VehicleSpec::Car {
+            frame,
+            secondary,
+            body,
+        } => (frame, secondary, Some(body)),
+    };
+    let roll = |r: Option<f64>| {
+        r.map_or("none (no roll state)".to_string(), |r| {
+            format!("{r} kg m^2")
+        })
+    };
+    line("bogie.mass", format!("{} kg", frame.mass));
+    line("bogie.yaw_inertia", format!("{} kg m^2", frame.yaw_inertia));
+    line("bogie.roll_inertia", roll(frame.roll_inertia));
+    line(
+        "bogie.half_wheelbase",
+        format!("{} m", frame.half_wheelbase),
+    );
+    line(
+        "secondary.lateral_stiffness",
+        format!("{} N/m", sec.lateral_stiffness),
+    );
+    line(
+        "secondary.longitudinal_stiffness",
+        format!("{} N/m", sec.longitudinal_stiffness),
+    );
+    line(
+        "secondary.lateral_damping",
+        format!("{} N s/m", sec.lateral_damping),
+    );
+    line(
+        "secondary.longitudinal_damping",
+        format!("{} N s/m", sec.longitudinal_damping),
+    );
+    line(
+        "secondary.half_spring_spacing",
+        format!("{} m", sec.half_spring_spacing),
+    );
+    line(
+        "secondary.yaw_damping",
+        format!("{} N s/m", sec.yaw_damping),
+    );
+    line(
+        "secondary.yaw_damper_half_spacing",
+        format!("{} m", sec.yaw_damper_half_spacing),
+    );
+    line(
+        "secondary.vertical_stiffness",
+        format!("{} N/m", sec.vertical_stiffness),
+    );
+    line(
+        "secondary.vertical_damping",
+        format!("{} N s/m", sec.vertical_damping),
+    );
+    line(
+        "secondary.vertical_half_spacing",
+        format!("{} m", sec.vertical_half_spacing),
+    );
+    line("secondary.height", format!("{} m", sec.height));
+    if let Some(b) = body {
+        line("carbody.mass", format!("{} kg", b.mass));
+        line("carbody.yaw_inertia", format!("{} kg m^2", b.yaw_inertia));
+        line("carbody.roll_inertia", roll(b.roll_inertia));
+        line(
+            "carbody.half_bogie_distance",
+            format!("{} m", b.half_bogie_distance),
+        );
+        line(
+            "carbody.secondary_height",
+            format!("{} m", b.secondary_height),
+        );
+    }
 }

@@ -295,3 +295,9 @@ pub fn build(
     }
     Vehicle::assemble(spec.layout(), bodies, elements, contact)
 }
+
+/// The single wheelset (MODEL §1–8) as a vehicle: the layout "wheelset" around `ws`, whose
+/// primary has no vertical part.
+pub fn single(ws: Wheelset) -> Result<Vehicle, AssemblyError> {
+    build(&VehicleSpec::Wheelset, ws, &PrimaryVertical::default())
+}

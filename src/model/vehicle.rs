@@ -457,3 +457,21 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
         }
     }
 }
+
+impl Vehicle {
+    /// The layout's lever arms (m): half the wheelbase a and half the bogie distance l_b
+    /// (0 where the layout has none), read from the bodies' positions.
+    pub fn layout_arms(&self) -> (f64, f64) {
+        let frames: Vec<&Body> = self
+            .bodies
+            .iter()
+            .filter(|b| b.kind == BodyKind::Frame)
+            .collect();
+        let lb = frames.first().map_or(0.0, |f| f.position_m.abs());
+        let a = match (frames.first(), self.bodies.first()) {
+            (Some(f), Some(w)) => (w.position_m - f.position_m).abs(),
+            _ => 0.0,
+        };
+        (a, lb)
+    }
+}

@@ -26,16 +26,49 @@ fn crossing_json(c: &Crossing) -> Value {
     })
 }
 
-fn crossings_json(c: &CriticalSpeeds) -> Value {
-    Value::Array(c.crossings.iter().map(crossing_json).collect())
+fn mode_json(m: &crate::analysis::ModeShape) -> Value {
+    let bodies: Vec<Value> = m
+        .bodies
+        .iter()
+        .map(|b| {
+            json!({
+                "body": b.body,
+                "lateral": b.lateral,
+                "yaw": b.yaw,
+                "lateral_phase_deg": b.lateral_phase_deg,
+                "yaw_phase_deg": b.yaw_phase_deg,
+                "reach": b.reach,
+            })
+        })
+        .collect();
+    json!({ "label": m.label, "leading_body": m.leading_body, "bodies": bodies })
 }
 
-fn details_json(c: &CriticalSpeeds) -> Value {
+/// The crossings, each with its mode shape when one was computed.
+fn crossings_json(c: &CriticalSpeeds, modes: &[Option<crate::analysis::ModeShape>]) -> Value {
+    Value::Array(
+        c.crossings
+            .iter()
+            .enumerate()
+            .map(|(k, x)| {
+                let mut v = crossing_json(x);
+                if let (Some(Some(m)), Some(o)) = (modes.get(k), v.as_object_mut()) {
+                    o.insert("mode".into(), Value::from(m.label));
+                    o.insert("leading_body".into(), Value::from(m.leading_body.clone()));
+                    o.insert("mode_shape".into(), mode_json(m));
+                }
+                v
+            })
+            .collect(),
+    )
+}
+
+fn details_json(c: &CriticalSpeeds, modes: &[Option<crate::analysis::ModeShape>]) -> Value {
     json!({
         "creep_law": c.law.name(),
         "stable_at_range_start": c.stable_at_start,
         "critical_speed_m_s": c.critical().map(|x| x.speed_m_s),
-        "crossings": crossings_json(c),
+        "crossings": crossings_json(c, modes),
         "divergence_speeds_m_s": c.divergence_speeds_m_s,
         "polynomial_evaluations": c.evaluations,
     })
@@ -44,26 +77,34 @@ fn details_json(c: &CriticalSpeeds) -> Value {
 /// The linear results as one JSON object (the `--json` contract and `linear.json`).
 pub fn linear_json(r: &LinearReport) -> Value {
     let law = r.law_crossings();
+    let law_modes = if r.creep_law.is_some() {
+        &r.creep_law_modes
+    } else {
+        &r.kalker_modes
+    };
     json!({
         "study": r.study,
         "kind": LINEAR_KIND,
+        "layout": r.layout.0,
+        "states": r.layout.1,
         "speed_range_m_s": [r.kalker.speed_range.0, r.kalker.speed_range.1],
         "creep_law": law.law.name(),
-        "critical_speeds": crossings_json(&r.kalker),
-        "creep_law_hopf_speeds": crossings_json(law),
+        "critical_speeds": crossings_json(&r.kalker, &r.kalker_modes),
+        "creep_law_hopf_speeds": crossings_json(law, law_modes),
         "linear_critical_speed_m_s": r.kalker.critical().map(|c| c.speed_m_s),
         "creep_law_hopf_speed_m_s": law.critical().map(|c| c.speed_m_s),
         "centre_conicity": r.centre_conicity,
         "klingel_wavelength_m": r.klingel_wavelength_m,
-        "kalker": details_json(&r.kalker),
-        "creep_law_details": details_json(law),
+        "kalker": details_json(&r.kalker, &r.kalker_modes),
+        "creep_law_details": details_json(law, law_modes),
     })
 }
 
-/// `spectrum.csv`: one row per (creep law, speed), the four eigenvalues and damping ratios.
+/// `spectrum.csv`: one row per (creep law, speed), every eigenvalue (one per state) and its
+/// damping ratio.
 pub fn spectrum_csv(r: &LinearReport) -> String {
     let mut s = String::from("creep_law,speed_m_s");
-    for k in 1..=4 {
+    for k in 1..=r.layout.1 {
         let _ = write!(
             s,
             ",eig{k}_re_per_s,eig{k}_im_rad_per_s,eig{k}_damping_ratio"
@@ -180,17 +221,36 @@ pub fn bifurcation_json(r: &crate::bifurcation::BifurcationReport) -> Value {
     })
 }
 
-/// `branch.csv`: one row per computed cycle.
+/// `branch.csv`: one row per computed cycle. The wheelset's columns are fixed; a vehicle's
+/// start state and multipliers have one column per state, followed by every body's
+/// amplitudes (`amp_y_<body>_m`, `amp_psi_<body>_rad`).
 pub fn branch_csv(r: &crate::bifurcation::BifurcationReport) -> String {
     let mut s = String::from(
         "speed_m_s,amplitude_y_m,amplitude_psi_rad,period_s,frequency_hz,stable,\
-max_multiplier_abs,trivial_multiplier_error,newton_iterations,y0_m,psi0_rad,ydot0_m_s,\
-psidot0_rad_s,mu1_re,mu1_im,mu2_re,mu2_im,mu3_re,mu3_im,mu4_re,mu4_im\n",
+max_multiplier_abs,trivial_multiplier_error,newton_iterations",
     );
+    let states = r.state_names.len();
+    if states == 4 {
+        s.push_str(",y0_m,psi0_rad,ydot0_m_s,psidot0_rad_s");
+    } else {
+        for n in &r.state_names {
+            let _ = write!(s, ",x0_{n}");
+        }
+    }
+    for k in 1..=states {
+        let _ = write!(s, ",mu{k}_re,mu{k}_im");
+    }
+    if states != 4 {
+        for b in &r.body_names {
+            let b = b.replace(' ', "_");
+            let _ = write!(s, ",amp_y_{b}_m,amp_psi_{b}_rad");
+        }
+    }
+    s.push('\n');
     for c in &r.cycles {
-        let _ = writeln!(
+        let _ = write!(
             s,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{}",
             c.speed_m_s,
             c.amplitude_y_m,
             c.amplitude_psi_rad,
@@ -200,27 +260,36 @@ psidot0_rad_s,mu1_re,mu1_im,mu2_re,mu2_im,mu3_re,mu3_im,mu4_re,mu4_im\n",
             c.max_multiplier_abs,
             c.trivial_multiplier_error,
             c.newton_iterations,
-            c.x0[0],
-            c.x0[1],
-            c.x0[2],
-            c.x0[3]
         );
-        // the multipliers follow on the same line
-        s.pop();
-        for (re, im) in c.multipliers {
+        for x in &c.x0 {
+            let _ = write!(s, ",{x}");
+        }
+        for (re, im) in &c.multipliers {
             let _ = write!(s, ",{re},{im}");
+        }
+        for (y, psi) in &c.body_amplitudes {
+            let _ = write!(s, ",{y},{psi}");
         }
         s.push('\n');
     }
     s
 }
 
-/// `simulate.csv`: the time histories, one block per speed.
+/// `simulate.csv`: the time histories, one block per speed, one column per state.
 pub fn simulate_csv(runs: &[crate::simulate::TimeHistory]) -> String {
-    let mut s = String::from("speed_m_s,time_s,y_m,psi_rad,ydot_m_s,psidot_rad_s\n");
+    let names = runs.first().map_or(&[][..], |h| &h.state_names[..]);
+    let mut s = String::from("speed_m_s,time_s");
+    for n in names {
+        let _ = write!(s, ",{n}");
+    }
+    s.push('\n');
     for h in runs {
         for (t, x) in h.t.iter().zip(&h.x) {
-            let _ = writeln!(s, "{},{t},{},{},{},{}", h.speed_m_s, x[0], x[1], x[2], x[3]);
+            let _ = write!(s, "{},{t}", h.speed_m_s);
+            for v in x {
+                let _ = write!(s, ",{v}");
+            }
+            s.push('\n');
         }
     }
     s

@@ -10,14 +10,16 @@ use super::*;
 // EN 14363: ΣY, the band-pass filter, the sliding r.m.s. and the limit
 // ---------------------------------------------------------------------------------------
 
-/// Sum of guiding forces ΣY (N) at state `x` = (y, ψ, ẏ, ψ̇) and speed `v` (m/s): every
-/// lateral wheel–rail force on the wheelset (creep after the creep law, gravitational
-/// stiffness, flange), computed as $m\ddot y − F_s$ with $F_s = −2K_{py}y − 2C_{py}\dot y$.
-pub fn sum_of_guiding_forces(model: &Wheelset, x: &[f64; 4], v: f64) -> f64 {
-    let f = model.rhs(x, v);
-    let s = &model.suspension;
-    let f_s = -2.0 * s.lateral_stiffness * x[0] - 2.0 * s.lateral_damping * x[2];
-    model.params.mass * f[2] - f_s
+/// Sum of guiding forces ΣY (N) of the leading wheelset at state `x` (the model's states)
+/// and speed `v` (m/s): every lateral wheel–rail force on it (creep after the creep law,
+/// gravitational stiffness, flange), i.e. $m\ddot y − F_s$ of MODEL §8, taken directly as the
+/// wheelset's lateral contact force ([`Vehicle::guiding_forces`] gives every wheelset's).
+pub fn sum_of_guiding_forces(model: &Vehicle, x: &[f64], v: f64) -> f64 {
+    model
+        .guiding_forces(x, v)
+        .first()
+        .copied()
+        .unwrap_or(f64::NAN)
 }
 
 /// The EN 14363 limit of the sliding r.m.s. of ΣY (N): $(10 + 2Q_0/3)/2$ kN with $Q_0$ the

@@ -91,7 +91,7 @@
 
 use nalgebra::{Complex, SMatrix, SVector};
 
-use crate::model::Wheelset;
+use crate::model::Vehicle;
 use crate::system::ode::{integrate_observed, OdeError, OdeOptions, Tolerances, VectorField};
 
 /// A sampled time history at one speed.
@@ -101,12 +101,17 @@ pub struct TimeHistory {
     pub speed_m_s: f64,
     /// sample times (s)
     pub t: Vec<f64>,
-    /// states (y m, ψ rad, ẏ m/s, ψ̇ rad/s)
-    pub x: Vec<[f64; 4]>,
+    /// states at each sample, in the model's state order (y m, ψ rad, ẏ m/s, ψ̇ rad/s for the
+    /// wheelset; [`crate::bifurcation::state_names`] for a vehicle): the leading wheelset's y
+    /// is always the first
+    pub x: Vec<Vec<f64>>,
+    /// the state components with their SI units
+    pub state_names: Vec<String>,
 }
 
 impl TimeHistory {
-    /// Largest |y| over the last `fraction` of the run (m): the settled amplitude.
+    /// Largest |y| of the leading wheelset over the last `fraction` of the run (m): the
+    /// settled amplitude.
     pub fn final_amplitude(&self, fraction: f64) -> f64 {
         let start = ((1.0 - fraction.clamp(0.0, 1.0)) * self.t.len() as f64) as usize;
         self.x[start.min(self.x.len())..]
@@ -116,11 +121,42 @@ impl TimeHistory {
     }
 }
 
-/// Integrates at constant `speed` from `x0` for `duration` s, sampled every `dt` s.
+/// Integrates at constant `speed` from `x0` (one value per state of `model`) for `duration`
+/// s, sampled every `dt` s. A start state of another length is an error.
 pub fn simulate(
-    model: &Wheelset,
+    model: &Vehicle,
     speed: f64,
-    x0: [f64; 4],
+    x0: &[f64],
+    duration: f64,
+    dt: f64,
+    ode: &OdeOptions,
+) -> Result<TimeHistory, OdeError> {
+    if x0.len() != model.states() {
+        return Err(OdeError::BadArgument {
+            name: "start state length",
+            value: x0.len() as f64,
+            rule: "must equal the model's number of states",
+        });
+    }
+    crate::with_states!(model.states(), N => simulate_states::<N>(model, speed, x0, duration, dt, ode),
+    _ => Err(OdeError::BadArgument {
+        name: "number of states",
+        value: model.states() as f64,
+        rule: "no analysis is compiled for this size (4, 12, 14, 28, 34 are)",
+    }))
+}
+
+/// The start state of a simulation: the leading wheelset displaced by `y0` (m), all else 0.
+pub fn lateral_start(model: &Vehicle, y0: f64) -> Vec<f64> {
+    let mut x = vec![0.0; model.states()];
+    x[0] = y0;
+    x
+}
+
+fn simulate_states<const N: usize>(
+    model: &Vehicle,
+    speed: f64,
+    x0: &[f64],
     duration: f64,
     dt: f64,
     ode: &OdeOptions,
@@ -129,14 +165,14 @@ pub fn simulate(
     let samples: Vec<f64> = (0..=n).map(|i| i as f64 * dt).collect();
     let mut t = Vec::with_capacity(samples.len());
     let mut x = Vec::with_capacity(samples.len());
-    let mut observe = |ti: f64, xi: &SVector<f64, 4>| {
+    let mut observe = |ti: f64, xi: &SVector<f64, N>| {
         t.push(ti);
-        x.push([xi[0], xi[1], xi[2], xi[3]]);
+        x.push(xi.iter().copied().collect());
     };
     integrate_observed(
         model,
         speed,
-        &SVector::from(x0),
+        &SVector::<f64, N>::from_fn(|i, _| x0[i]),
         duration,
         ode,
         &samples,
@@ -146,13 +182,14 @@ pub fn simulate(
         speed_m_s: speed,
         t,
         x,
+        state_names: crate::bifurcation::state_names(model),
     })
 }
 
 /// The wheelset with the speed as a fifth state decreasing at `rate` (m/s²).
 pub struct RampField<'a> {
-    /// the wheelset
-    pub model: &'a Wheelset,
+    /// the wheelset (4 states)
+    pub model: &'a Vehicle,
     /// deceleration (m/s²), positive
     pub rate: f64,
 }
@@ -160,7 +197,7 @@ pub struct RampField<'a> {
 impl VectorField<5> for RampField<'_> {
     fn rhs(&self, x: &SVector<f64, 5>, _p: f64) -> SVector<f64, 5> {
         let v = x[4].max(1e-3);
-        let f = self.model.rhs_vec(&x.fixed_rows::<4>(0).into_owned(), v);
+        let f = VectorField::<4>::rhs(self.model, &x.fixed_rows::<4>(0).into_owned(), v);
         SVector::<f64, 5>::new(f[0], f[1], f[2], f[3], -self.rate)
     }
     fn jacobian(&self, x: &SVector<f64, 5>, p: f64) -> SMatrix<f64, 5, 5> {
@@ -168,7 +205,7 @@ impl VectorField<5> for RampField<'_> {
         // for completeness of the contract.
         let v = x[4].max(1e-3);
         let xs = x.fixed_rows::<4>(0).into_owned();
-        let (j, _) = self.model.jacobian(&xs, v);
+        let j = VectorField::<4>::jacobian(self.model, &xs, v);
         let h = 1e-6 * v;
         let mut xp = *x;
         xp[4] += h;
@@ -182,11 +219,10 @@ impl VectorField<5> for RampField<'_> {
         out
     }
     fn switch_count(&self) -> usize {
-        self.model.switch_count()
+        VectorField::<4>::switch_count(self.model)
     }
     fn switch_value(&self, k: usize, x: &SVector<f64, 5>) -> f64 {
-        self.model
-            .switch_value(k, &x.fixed_rows::<4>(0).into_owned())
+        VectorField::<4>::switch_value(self.model, k, &x.fixed_rows::<4>(0).into_owned())
     }
 }
 

@@ -24,6 +24,9 @@ pub enum RampError {
         /// the rule it breaks
         rule: &'static str,
     },
+    /// The ramp method runs on the 4-state wheelset only (so far).
+    #[error("the ramp method runs on the single wheelset (4 states); this model has {0} states")]
+    States(usize),
     /// The integration failed.
     #[error("integration failed at t = {t} s, V = {speed} m/s: {source}")]
     Ode {
@@ -195,7 +198,7 @@ pub struct RampResult {
 /// Sampling interval (s): at least 50 samples per kinematic (Klingel) period $L_k/V$, the
 /// shortest hunting period a wheelset of this conicity shows (suspension stiffness lowers the
 /// frequency), and at most 2 ms.
-pub fn sample_interval(model: &Wheelset, speed: f64) -> f64 {
+pub fn sample_interval(model: &Vehicle, speed: f64) -> f64 {
     let lk = model.klingel_wavelength();
     let dt = lk / speed / 50.0;
     if dt.is_finite() && dt > 0.0 {
@@ -259,7 +262,7 @@ fn refine_peak(a: &Sample, b: &Sample) -> EnvelopePoint {
 
 /// The streaming analysis of the history: peaks, ΣY, and the EN 14363 filter and window.
 struct Pipeline<'a> {
-    model: &'a Wheelset,
+    model: &'a Vehicle,
     prev: Option<Sample>,
     envelope: Vec<EnvelopePoint>,
     /// ΣY samples (t, speed, distance, ΣY) held until f0 is known
@@ -268,7 +271,7 @@ struct Pipeline<'a> {
 }
 
 impl<'a> Pipeline<'a> {
-    fn new(model: &'a Wheelset) -> Self {
+    fn new(model: &'a Vehicle) -> Self {
         Self {
             model,
             prev: None,
@@ -324,7 +327,7 @@ impl<'a> Pipeline<'a> {
         let f0 = self
             .frequency_after(t_from)
             .or_else(|| self.frequency_after(0.0));
-        let limit = en14363_limit(self.model.params.axle_load / 2.0);
+        let limit = en14363_limit(self.model.contact.params.axle_load / 2.0);
         let mut en = EnStream::new(f0, dt, limit);
         for (t, v, s, sy) in self.pending.drain(..) {
             en.push(t, v, s, sy);
@@ -411,7 +414,10 @@ impl Runner<'_> {
 /// The ramp method: settle at `start_speed` from $y(0) = y_0$, then decelerate at `rate`
 /// until the peak amplitude has fallen below `threshold` for good (below a tenth of it) or
 /// `end_speed` is reached. See the module docs for what the answer means and how it errs.
-pub fn ramp(model: &Wheelset, opts: &RampOptions) -> Result<RampResult, RampError> {
+pub fn ramp(model: &Vehicle, opts: &RampOptions) -> Result<RampResult, RampError> {
+    if model.states() != 4 {
+        return Err(RampError::States(model.states()));
+    }
     opts.validate()?;
     let dt = sample_interval(model, opts.start_speed);
     let mut run = Runner {
@@ -549,7 +555,7 @@ pub struct RampConvergence {
 /// Invalid options are an error; a run that fails is recorded as [`ConvergenceStop::Failed`]
 /// with the rows before it.
 pub fn ramp_converged(
-    model: &Wheelset,
+    model: &Vehicle,
     opts: &RampOptions,
     max_halvings: usize,
     rel_tol: f64,

@@ -13,49 +13,57 @@
 //! rejected). The other factors multiply to a number of the sign of $μ_1 + μ_2 = −a_3$, so the
 //! real part of the crossing pair has the sign of $−Δ_3 a_3$: that gives the direction
 //! (onset or recovery of stability) exactly. The speed range is scanned on a uniform grid and
-//! each sign change refined by Brent's method.
+//! each sign change refined by Brent's method. This is the 4-state path.
+//!
+//! **Any number of states** (vehicles, MODEL §11). With more states the characteristic
+//! polynomial is too ill-conditioned to use, so the scan counts the eigenvalues of $J(V)$ in
+//! the right half-plane (faer's eigenvalues) on the same grid. Where the count of unstable
+//! complex eigenvalues changes between two grid speeds, the pair that crossed is the complex
+//! eigenvalue (Im > 0) nearest the imaginary axis at the interval's ends, and its real part
+//! $σ(V)$ (the eigenvalue of $J(V)$ nearest the pair's frequency) is refined by Brent's
+//! method to the same tolerance. Each located crossing is re-checked: $σ$ has opposite signs
+//! at the ends of its final bracket.
 
 mod brent;
+mod eigen_scan;
 mod spectrum;
 
 pub use spectrum::{spectrum_at, EigenPair, Spectrum};
 
-use nalgebra::{Matrix4, Vector4};
+use nalgebra::{Matrix4, SMatrix, SVector};
 
 use crate::contact::creep::CreepLaw;
-use crate::model::Wheelset;
+use crate::system::ode::VectorField;
 
-/// The centred-motion Jacobian as $J(V) = J_0 + J_1/V$.
+/// The centred-motion Jacobian as $J(V) = J_0 + J_1/V$, for `N` states.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LinearSystem {
+pub struct LinearSystem<const N: usize> {
     /// the speed-independent part (1/s², 1/s)
-    pub j0: Matrix4<f64>,
+    pub j0: SMatrix<f64, N, N>,
     /// the part multiplying 1/V (m/s³ …)
-    pub j1: Matrix4<f64>,
-    /// When $J = [[0, I], [A, B]]$ (a second-order system, as the wheelset is), the lower
-    /// rows of $J_0$ and $J_1$ as `[a11, a12, b11, b12, a21, a22, b21, b22]`.
+    pub j1: SMatrix<f64, N, N>,
+    /// For 4 states with $J = [[0, I], [A, B]]$ (the wheelset), the lower rows of $J_0$ and
+    /// $J_1$ as `[a11, a12, b11, b12, a21, a22, b21, b22]`.
     blocks: Option<([f64; 8], [f64; 8])>,
 }
 
-impl LinearSystem {
+impl<const N: usize> LinearSystem<N> {
     /// Linearises `model` about the centred motion with its own creep law.
-    pub fn at_centre(model: &Wheelset) -> Self {
-        let x = Vector4::zeros();
-        let (ja, _) = model.jacobian(&x, 1.0);
-        let (jb, _) = model.jacobian(&x, 2.0);
+    pub fn at_centre<F: VectorField<N>>(model: &F) -> Self {
+        let x = SVector::<f64, N>::zeros();
+        let ja = VectorField::<N>::jacobian(model, &x, 1.0);
+        let jb = VectorField::<N>::jacobian(model, &x, 2.0);
         // J(1) = J0 + J1, J(2) = J0 + J1/2
         let j1 = (ja - jb) * 2.0;
         Self::new(ja - j1, j1)
     }
 
-    /// From the two parts; detects the second-order structure $[[0, I], [A, B]]$.
-    pub fn new(j0: Matrix4<f64>, j1: Matrix4<f64>) -> Self {
-        let top = Matrix4::new(
-            0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-        );
+    /// From the two parts; for 4 states, detects the second-order structure $[[0, I], [A, B]]$.
+    pub fn new(j0: SMatrix<f64, N, N>, j1: SMatrix<f64, N, N>) -> Self {
+        let top = |r: usize, c: usize| if c == r + 2 { 1.0 } else { 0.0 };
         let second_order =
-            (0..2).all(|r| (0..4).all(|c| j0[(r, c)] == top[(r, c)] && j1[(r, c)] == 0.0));
-        let lower = |j: &Matrix4<f64>| std::array::from_fn(|k| j[(2 + k / 4, k % 4)]);
+            N == 4 && (0..2).all(|r| (0..4).all(|c| j0[(r, c)] == top(r, c) && j1[(r, c)] == 0.0));
+        let lower = |j: &SMatrix<f64, N, N>| std::array::from_fn(|k| j[(2 + k / 4, k % 4)]);
         Self {
             j0,
             j1,
@@ -63,14 +71,15 @@ impl LinearSystem {
         }
     }
 
-    /// Characteristic polynomial coefficients $[a_3, a_2, a_1, a_0]$ of $J(V)$.
+    /// Characteristic polynomial coefficients $[a_3, a_2, a_1, a_0]$ of $J(V)$ (4 states).
     ///
     /// For $J = [[0, I], [A, B]]$, $\det(sI − J) = \det(s^2 I − sB − A)$, a 2×2 determinant:
     /// about 30 flops instead of the general 4×4 minors (the critical-speed scan's hot loop).
     #[inline]
     pub fn coefficients(&self, v: f64) -> [f64; 4] {
         let Some((b0, b1)) = &self.blocks else {
-            return characteristic_polynomial(&self.jacobian(v));
+            let j = self.jacobian(v);
+            return characteristic_polynomial(&Matrix4::from_fn(|r, c| j[(r, c)]));
         };
         let u = 1.0 / v;
         let e: [f64; 8] = std::array::from_fn(|k| b0[k] + u * b1[k]);
@@ -85,7 +94,7 @@ impl LinearSystem {
 
     /// $J(V)$.
     #[inline]
-    pub fn jacobian(&self, v: f64) -> Matrix4<f64> {
+    pub fn jacobian(&self, v: f64) -> SMatrix<f64, N, N> {
         self.j0 + self.j1 * (1.0 / v)
     }
 }
@@ -186,7 +195,7 @@ pub struct CriticalSpeeds {
     pub stable_at_start: bool,
     /// speeds where a real eigenvalue crosses zero (divergence, not hunting) (m/s)
     pub divergence_speeds_m_s: Vec<f64>,
-    /// evaluations of the characteristic polynomial
+    /// evaluations of the characteristic polynomial (4 states) or eigenvalue decompositions
     pub evaluations: usize,
 }
 
@@ -210,14 +219,26 @@ pub enum LinearError {
     BadTolerance(f64),
     #[error("the Jacobian is not finite at V = {speed_m_s} m/s")]
     NotFinite { speed_m_s: f64 },
+    #[error("no analysis is compiled for a model of {0} states (4, 12, 14, 28, 34 are)")]
+    States(usize),
 }
 
-/// Every crossing of the imaginary axis by a complex pair of $J(V)$ within the range.
-pub fn critical_speeds(
-    sys: &LinearSystem,
+/// Every crossing of the imaginary axis by a complex pair of $J(V)$ within the range: the
+/// quartic's Hurwitz scan for 4 states, the eigenvalue scan ([`eigen_scan`]) for more.
+pub fn critical_speeds<const N: usize>(
+    sys: &LinearSystem<N>,
     law: CreepLaw,
     opts: &LinearOptions,
 ) -> Result<CriticalSpeeds, LinearError> {
+    check_options(opts)?;
+    if N == 4 {
+        quartic_scan(sys, law, opts)
+    } else {
+        eigen_scan::eigen_scan(sys, law, opts)
+    }
+}
+
+fn check_options(opts: &LinearOptions) -> Result<(), LinearError> {
     let (lo, hi) = opts.speed_range;
     if !(lo > 0.0 && hi > lo && hi.is_finite()) {
         return Err(LinearError::BadRange { min: lo, max: hi });
@@ -228,6 +249,15 @@ pub fn critical_speeds(
     if !(1e-15..=1e-3).contains(&opts.rel_tol) {
         return Err(LinearError::BadTolerance(opts.rel_tol));
     }
+    Ok(())
+}
+
+fn quartic_scan<const N: usize>(
+    sys: &LinearSystem<N>,
+    law: CreepLaw,
+    opts: &LinearOptions,
+) -> Result<CriticalSpeeds, LinearError> {
+    let (lo, hi) = opts.speed_range;
     let n = opts.grid_points;
     let speed = |i: usize| lo + (hi - lo) * (i as f64) / ((n - 1) as f64);
     let eval = |v: f64| -> Result<[f64; 4], LinearError> {

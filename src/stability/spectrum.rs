@@ -4,7 +4,7 @@
 //! too, so that callers and tests can check the defining identity $J v = λ v$.
 
 use faer::Mat;
-use nalgebra::Matrix4;
+use nalgebra::SMatrix;
 
 /// One eigenvalue with its right eigenvector.
 #[derive(Clone, Debug, PartialEq)]
@@ -14,7 +14,7 @@ pub struct EigenPair {
     /// imaginary part (rad/s)
     pub im: f64,
     /// eigenvector, (re, im) per state component
-    pub vector: [(f64, f64); 4],
+    pub vector: Vec<(f64, f64)>,
 }
 
 impl EigenPair {
@@ -38,7 +38,7 @@ impl EigenPair {
 pub struct Spectrum {
     /// speed (m/s)
     pub speed_m_s: f64,
-    /// the four eigenpairs
+    /// the eigenpairs, one per state
     pub pairs: Vec<EigenPair>,
 }
 
@@ -61,21 +61,38 @@ impl Spectrum {
 }
 
 /// Eigen-decomposition of `j`; `None` if the QR iteration failed (or `j` is not finite).
-pub fn spectrum_at(j: &Matrix4<f64>, speed_m_s: f64) -> Option<Spectrum> {
+pub fn spectrum_at<const N: usize>(j: &SMatrix<f64, N, N>, speed_m_s: f64) -> Option<Spectrum> {
     if !j.iter().all(|x| x.is_finite()) {
         return None;
     }
-    let a = Mat::<f64>::from_fn(4, 4, |r, c| j[(r, c)]);
+    let a = Mat::<f64>::from_fn(N, N, |r, c| j[(r, c)]);
     let evd = a.eigen().ok()?;
     let s = evd.S().column_vector();
     let u = evd.U();
-    let mut pairs: Vec<EigenPair> = (0..4)
+    let mut pairs: Vec<EigenPair> = (0..N)
         .map(|k| EigenPair {
             re: s[k].re,
             im: s[k].im,
-            vector: std::array::from_fn(|r| (u[(r, k)].re, u[(r, k)].im)),
+            vector: (0..N).map(|r| (u[(r, k)].re, u[(r, k)].im)).collect(),
         })
         .collect();
     pairs.sort_by(|p, q| q.im.total_cmp(&p.im).then(q.re.total_cmp(&p.re)));
     Some(Spectrum { speed_m_s, pairs })
+}
+
+/// The eigenvalues of `j` as (re, im), without vectors; `None` if not finite or QR failed.
+pub fn eigenvalues<const N: usize>(j: &SMatrix<f64, N, N>) -> Option<Vec<(f64, f64)>> {
+    if !j.iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    let a = Mat::<f64>::from_fn(N, N, |r, c| j[(r, c)]);
+    let ev = a.eigenvalues().ok()?;
+    Some(ev.iter().map(|z| (z.re, z.im)).collect())
+}
+
+/// $\det J$ by faer's LU (any size).
+pub fn determinant<const N: usize>(j: &SMatrix<f64, N, N>) -> f64 {
+    Mat::<f64>::from_fn(N, N, |r, c| j[(r, c)])
+        .as_ref()
+        .determinant()
 }

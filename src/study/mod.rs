@@ -7,6 +7,7 @@ mod profiles;
 pub mod schema;
 mod tabulated;
 pub mod units;
+mod vehicle;
 
 use std::path::Path;
 
@@ -15,7 +16,9 @@ use crate::contact::creep::CreepLaw;
 use crate::contact::geometry::{Geometry, Nominal};
 use crate::contact::kalker::CreepCoefficients;
 use crate::contact::table::{ContactTable, CreepSource, Elastic, TableError, TableSpec};
-use crate::model::{Flange, Suspension, Wheelset, WheelsetParams};
+use crate::model::{
+    layouts, Flange, PrimaryVertical, Suspension, Vehicle, VehicleSpec, Wheelset, WheelsetParams,
+};
 use crate::stability::LinearOptions;
 use schema::{Quantity, StudyFile};
 use units::{parse_quantity, Dimension, UnitProblem};
@@ -93,8 +96,13 @@ pub struct Plan {
     pub description: String,
     /// wheelset
     pub wheelset: WheelsetParams,
-    /// suspension
+    /// the primary suspension per side (MODEL §7), wheelset to frame (to the track for the
+    /// wheelset layout)
     pub suspension: Suspension,
+    /// the primary's vertical stiffness, damping and height (frame roll only)
+    pub primary_vertical: PrimaryVertical,
+    /// the layout and its bodies beyond the wheelsets (MODEL §11)
+    pub vehicle: VehicleSpec,
     /// contact
     pub contact: ContactPlan,
     /// flange, if any
@@ -157,7 +165,7 @@ pub(crate) fn quantity(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, S
 }
 
 /// A quantity that must satisfy `ok`, described by `rule`.
-fn checked(
+pub(crate) fn checked(
     key: &str,
     q: &Quantity,
     dim: Dimension,
@@ -176,11 +184,11 @@ fn checked(
     }
 }
 
-fn positive(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
+pub(crate) fn positive(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
     checked(key, q, dim, |v| v > 0.0, "must be positive")
 }
 
-fn non_negative(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
+pub(crate) fn non_negative(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
     checked(key, q, dim, |v| v >= 0.0, "must not be negative")
 }
 
@@ -282,6 +290,8 @@ pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyErr
         None => None,
     };
     let contact = contact_plan(&f.contact, &wheelset, flange.as_ref(), folder)?;
+    let vehicle = vehicle::spec(&f)?;
+    let primary_vertical = vehicle::primary_vertical(&f)?;
     let (linear, spectrum_points) = linear_plan(f.linear.as_ref())?;
     let bifurcation = f
         .bifurcation
@@ -293,6 +303,8 @@ pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyErr
         description: f.description.unwrap_or_default(),
         wheelset,
         suspension,
+        primary_vertical,
+        vehicle,
         contact,
         flange,
         linear,
@@ -301,7 +313,7 @@ pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyErr
     })
 }
 
-fn rule(key: &str, value: impl std::fmt::Display, rule: &str) -> StudyError {
+pub(crate) fn rule(key: &str, value: impl std::fmt::Display, rule: &str) -> StudyError {
     StudyError::Rule {
         key: key.into(),
         value: value.to_string(),
@@ -602,16 +614,48 @@ impl Plan {
         }
     }
 
-    /// Builds the model: tabulates the contact geometry and attaches the parameters.
-    pub fn model(&self) -> Result<Wheelset, TableError> {
+    /// The single wheelset of MODEL §1–8 (its contact and primary): the contact part of every
+    /// wheelset of the vehicle. Tabulates the contact geometry.
+    pub fn wheelset_model(&self) -> Result<Wheelset, TableError> {
         let table = ContactTable::build(&self.contact.geometry, &self.table_spec())?;
-        Ok(Wheelset {
+        Ok(self.wheelset_with(table))
+    }
+
+    /// [`Self::wheelset_model`] with an already tabulated geometry.
+    pub fn wheelset_with(&self, table: ContactTable) -> Wheelset {
+        Wheelset {
             params: self.wheelset,
             suspension: self.suspension,
             creep_law: self.contact.creep_law,
             spin: self.contact.spin,
             flange: self.flange,
             table,
-        })
+        }
     }
+
+    /// Builds the model: tabulates the contact geometry and assembles the vehicle.
+    pub fn model(&self) -> Result<Vehicle, ModelError> {
+        let table = ContactTable::build(&self.contact.geometry, &self.table_spec())?;
+        self.model_with(table)
+    }
+
+    /// [`Self::model`] with an already tabulated geometry (sweeps reuse it).
+    pub fn model_with(&self, table: ContactTable) -> Result<Vehicle, ModelError> {
+        Ok(layouts::build(
+            &self.vehicle,
+            self.wheelset_with(table),
+            &self.primary_vertical,
+        )?)
+    }
+}
+
+/// Why a plan's model could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelError {
+    /// the contact geometry could not be tabulated
+    #[error(transparent)]
+    Table(#[from] TableError),
+    /// the assembly was refused
+    #[error(transparent)]
+    Assembly(#[from] crate::model::vehicle::AssemblyError),
 }

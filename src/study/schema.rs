@@ -24,8 +24,20 @@ pub struct StudyFile {
     /// free text: where the parameters come from
     #[serde(default)]
     pub description: Option<String>,
+    /// the layout (`kind = "wheelset" | "bogie" | "car"`); absent: a single wheelset
+    #[serde(default)]
+    pub vehicle: Option<VehicleSection>,
     pub wheelset: WheelsetSection,
     pub suspension: SuspensionSection,
+    /// the bogie frame (layouts "bogie" and "car")
+    #[serde(default)]
+    pub bogie: Option<BogieSection>,
+    /// the secondary suspension (layouts "bogie" and "car")
+    #[serde(default)]
+    pub secondary: Option<SecondarySection>,
+    /// the car body (layout "car")
+    #[serde(default)]
+    pub carbody: Option<CarbodySection>,
     pub contact: ContactSection,
     #[serde(default)]
     pub flange: Option<FlangeSection>,
@@ -59,6 +71,74 @@ pub struct SuspensionSection {
     pub lateral_damping: Quantity,
     pub longitudinal_damping: Quantity,
     pub half_spring_spacing: Quantity,
+    /// vertical stiffness per side (acts on a rolling frame only)
+    #[serde(default)]
+    pub vertical_stiffness: Option<Quantity>,
+    /// vertical damping per side
+    #[serde(default)]
+    pub vertical_damping: Option<Quantity>,
+    /// height of the primary above the frame's centre of mass (frame roll only)
+    #[serde(default)]
+    pub height: Option<Quantity>,
+}
+
+/// `[vehicle]`: which layout the study describes.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleSection {
+    /// "wheelset", "bogie" or "car"
+    pub kind: String,
+}
+
+/// `[bogie]`: the frame.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BogieSection {
+    pub mass: Quantity,
+    pub yaw_inertia: Quantity,
+    pub half_wheelbase: Quantity,
+    /// adds the frame's roll
+    #[serde(default)]
+    pub roll_inertia: Option<Quantity>,
+}
+
+/// `[secondary]`: per side, frame to car body (track-fixed for a bogie).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SecondarySection {
+    pub lateral_stiffness: Quantity,
+    pub longitudinal_stiffness: Quantity,
+    pub lateral_damping: Quantity,
+    pub longitudinal_damping: Quantity,
+    pub half_spring_spacing: Quantity,
+    #[serde(default)]
+    pub yaw_damping: Option<Quantity>,
+    #[serde(default)]
+    pub yaw_damper_half_spacing: Option<Quantity>,
+    #[serde(default)]
+    pub vertical_stiffness: Option<Quantity>,
+    #[serde(default)]
+    pub vertical_damping: Option<Quantity>,
+    #[serde(default)]
+    pub vertical_half_spacing: Option<Quantity>,
+    /// height above the frame's centre of mass (frame roll only)
+    #[serde(default)]
+    pub height: Option<Quantity>,
+}
+
+/// `[carbody]`: the car body (layout "car").
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CarbodySection {
+    pub mass: Quantity,
+    pub yaw_inertia: Quantity,
+    pub half_bogie_distance: Quantity,
+    /// adds the car body's roll
+    #[serde(default)]
+    pub roll_inertia: Option<Quantity>,
+    /// height of the secondary above the car body's centre of mass (negative: below)
+    #[serde(default)]
+    pub secondary_height: Option<Quantity>,
 }
 
 #[derive(Clone, Debug, Deserialize)]

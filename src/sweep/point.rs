@@ -7,7 +7,7 @@
 
 use crate::bifurcation;
 use crate::contact::creep::CreepLaw;
-use crate::model::Wheelset;
+use crate::model::Vehicle;
 use crate::stability::{critical_speeds, LinearOptions, LinearSystem};
 
 use super::study::{Spares, SweepStudy};
@@ -223,10 +223,12 @@ enum Onset {
 }
 
 /// First onset of `model`'s own law, or stable through the range, or the reason.
-fn onset(model: &Wheelset, opts: &LinearOptions, what: &str) -> Result<Onset, String> {
-    let law = model.creep_law;
-    let found = critical_speeds(&LinearSystem::at_centre(model), law, opts)
-        .map_err(|e| format!("{what}: {e}"))?;
+fn onset(model: &Vehicle, opts: &LinearOptions, what: &str) -> Result<Onset, String> {
+    let law = model.creep_law();
+    let found = crate::with_states!(model.states(),
+        N => critical_speeds(&LinearSystem::<N>::at_centre(model), law, opts),
+        _ => Err(crate::stability::LinearError::States(model.states())))
+    .map_err(|e| format!("{what}: {e}"))?;
     let (lo, hi) = opts.speed_range;
     if let Some(c) = found.critical() {
         return Ok(Onset::Found(c.speed_m_s, c.frequency_hz));
@@ -289,9 +291,9 @@ fn fill(study: &SweepStudy, rec: &mut PointRecord, spares: &Spares) {
     let v_max = plan.linear.speed_range.1;
     if c.kalker {
         // the Kalker model is the study's with the law swapped (no copy of the table)
-        let law = std::mem::replace(&mut model.creep_law, CreepLaw::Kalker);
+        let law = std::mem::replace(&mut model.contact.creep_law, CreepLaw::Kalker);
         let found = onset(&model, &plan.linear, "kalker");
-        model.creep_law = law;
+        model.contact.creep_law = law;
         record(rec, Computed::Kalker, found, v_max);
     }
     if c.hopf {
@@ -309,7 +311,7 @@ fn fill(study: &SweepStudy, rec: &mut PointRecord, spares: &Spares) {
 /// V_NL by continuation from the Hopf point. With no Hopf point in the range V_NL stays
 /// unknown (a failure): V_H > v_max does not bound V_NL, since a subcritical branch born above
 /// v_max can fold back below it, where a continuation confined to the range never looks.
-fn nonlinear(rec: &mut PointRecord, plan: &crate::study::Plan, model: &Wheelset) {
+fn nonlinear(rec: &mut PointRecord, plan: &crate::study::Plan, model: &Vehicle) {
     // the points are the parallel work; each continuation runs serially (same results)
     let opts = bifurcation::BifurcationOptions {
         parallel: false,

@@ -2,7 +2,7 @@
 //! fingerprint, and reuse of the contact table between points.
 
 use crate::contact::table::ContactTable;
-use crate::model::Wheelset;
+use crate::model::Vehicle;
 use crate::study::schema::{Quantity, StudyFile};
 use crate::study::{self, Plan};
 
@@ -19,7 +19,7 @@ pub struct SweepStudy {
     /// hash of the normalised plan and sweep definition (16 hex digits)
     pub fingerprint: String,
     table: toml::Table,
-    base_model: Wheelset,
+    base_model: Vehicle,
     /// folder that relative paths in the study are taken from
     folder: Option<std::path::PathBuf>,
 }
@@ -181,41 +181,32 @@ impl SweepStudy {
             && plan.table_spec() == self.base.table_spec()
     }
 
-    /// The model of a point's plan. When [`Self::reuses_table`], a spare model from `spares`
-    /// (or a copy of the base model) gets the plan's parameters: the table is not rebuilt.
-    pub fn model(
-        &self,
-        plan: &Plan,
-        spares: &Spares,
-    ) -> Result<Wheelset, crate::contact::table::TableError> {
-        let mut m = if self.reuses_table(plan) {
-            spares.take().unwrap_or_else(|| self.base_model.clone())
+    /// The model of a point's plan. When [`Self::reuses_table`], the contact table of a spare
+    /// model from `spares` (or a copy of the base model's) is reused: it is not rebuilt.
+    pub fn model(&self, plan: &Plan, spares: &Spares) -> Result<Vehicle, study::ModelError> {
+        let table = if self.reuses_table(plan) {
+            spares.take().map_or_else(
+                || self.base_model.contact.table.clone(),
+                |m| m.contact.table,
+            )
         } else {
-            Wheelset {
-                table: ContactTable::build(&plan.contact.geometry, &plan.table_spec())?,
-                ..self.base_model.clone()
-            }
+            ContactTable::build(&plan.contact.geometry, &plan.table_spec())?
         };
-        m.params = plan.wheelset;
-        m.suspension = plan.suspension;
-        m.creep_law = plan.contact.creep_law;
-        m.spin = plan.contact.spin;
-        m.flange = plan.flange;
-        Ok(m)
+        plan.model_with(table)
     }
 }
 
 /// Models with the base study's contact table, kept between points to save copying it.
 #[derive(Debug, Default)]
-pub struct Spares(std::sync::Mutex<Vec<Wheelset>>);
+pub struct Spares(std::sync::Mutex<Vec<Vehicle>>);
 
 impl Spares {
-    fn take(&self) -> Option<Wheelset> {
+    fn take(&self) -> Option<Vehicle> {
         self.0.lock().unwrap_or_else(|e| e.into_inner()).pop()
     }
 
     /// Returns a model whose table is the base study's.
-    pub fn put(&self, m: Wheelset) {
+    pub fn put(&self, m: Vehicle) {
         self.0.lock().unwrap_or_else(|e| e.into_inner()).push(m);
     }
 }

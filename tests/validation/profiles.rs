@@ -46,7 +46,7 @@ pub struct Metrics {
 pub fn dtu_table(gauge_mm: f64) -> critspeed::contact::table::ContactTable {
     let origin = root().join("studies/dtu.toml");
     let plan = study::parse(&dtu_study(gauge_mm), &origin.display().to_string()).expect("plan");
-    plan.model().expect("table").table
+    plan.wheelset_model().expect("table").table
 }
 
 pub fn metrics(gauge_mm: f64) -> Metrics {
@@ -96,7 +96,7 @@ pub fn conicities(amplitudes: &[f64]) -> Vec<f64> {
     let text = std::fs::read_to_string(&origin).expect("study");
     let plan = study::parse(&text, &origin.display().to_string()).expect("plan");
     let pts = plan
-        .model()
+        .wheelset_model()
         .expect("table")
         .table
         .rolling_radius_difference();
@@ -154,7 +154,7 @@ table_points = 801
     let origin = dir.join("e1.toml").display().to_string();
     let plan = study::parse(study, &origin).expect("E1 study");
     let dr = plan
-        .model()
+        .wheelset_model()
         .expect("E1 table")
         .table
         .rolling_radius_difference();

@@ -91,7 +91,7 @@ pub fn dtu_wheelset_section(s: &mut String) {
     let _ = writeln!(s, "Sought: a published single suspended wheelset with stated parameters and critical speeds on this geometry — Knudsen, Feldberg & True (1992), *Bifurcations and chaos in a model of a rolling railway wheelset*, Phil. Trans. R. Soc. A 338, 455–469; Knudsen, Slivsgaard, Rose, True & Feldberg (1994), *Dynamics of a model of a railway wheelset*, Nonlinear Dynamics 6, 215–236; True's later single-wheelset papers. Only their citations (e.g. in True & Trzepacz, Solid Mechanics and its Applications 122) were found in the reference corpora, not their parameters or critical speeds; the Cooperrider numbers available are for a bogie. **No published number is compared here.**\n");
     let _ = writeln!(s, "`studies/dtu-rsgeo-wheelset.toml` (its header gives the source of every value; mass and yaw inertia are ASSUMED) computed as is:\n");
     let opts = plan.linear;
-    let kalker = LinearSystem::at_centre(&model.with_law(CreepLaw::Kalker));
+    let kalker = LinearSystem::<4>::at_centre(&model.with_law(CreepLaw::Kalker));
     let lin = critical_speeds(&kalker, CreepLaw::Kalker, &opts).expect("search");
     let vl = lin.critical().expect("V_L in range");
     let r = analyse(&plan.name, &model, &plan.bifurcation_options()).expect("continuation");

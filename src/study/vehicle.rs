@@ -1,0 +1,244 @@
+//! `[vehicle]`, `[bogie]`, `[secondary]`, `[carbody]` and the primary's vertical keys: the
+//! layout of MODEL §11, in SI, checked.
+
+use super::schema::{Quantity, StudyFile};
+use super::units::Dimension;
+use super::{checked, non_negative, positive, rule, StudyError};
+use crate::model::{CarBodyParams, FrameParams, PrimaryVertical, Secondary, VehicleSpec};
+
+fn opt(
+    key: &str,
+    q: Option<&Quantity>,
+    dim: Dimension,
+    f: fn(&str, &Quantity, Dimension) -> Result<f64, StudyError>,
+) -> Result<Option<f64>, StudyError> {
+    q.map(|q| f(key, q, dim)).transpose()
+}
+
+fn height(key: &str, q: Option<&Quantity>) -> Result<f64, StudyError> {
+    let v = q.map(|q| {
+        checked(
+            key,
+            q,
+            Dimension::Length,
+            |v| v.abs() <= 10.0,
+            "must lie in [-10, 10] m",
+        )
+    });
+    Ok(v.transpose()?.unwrap_or(0.0))
+}
+
+/// The primary's vertical stiffness, damping and height (`[suspension]`).
+pub(super) fn primary_vertical(f: &StudyFile) -> Result<PrimaryVertical, StudyError> {
+    let s = &f.suspension;
+    use Dimension::*;
+    Ok(PrimaryVertical {
+        stiffness: opt(
+            "suspension.vertical_stiffness",
+            s.vertical_stiffness.as_ref(),
+            Stiffness,
+            non_negative,
+        )?
+        .unwrap_or(0.0),
+        damping: opt(
+            "suspension.vertical_damping",
+            s.vertical_damping.as_ref(),
+            Damping,
+            non_negative,
+        )?
+        .unwrap_or(0.0),
+        height: height("suspension.height", s.height.as_ref())?,
+    })
+}
+
+fn frame(f: &StudyFile) -> Result<FrameParams, StudyError> {
+    let b = f.bogie.as_ref().ok_or_else(|| StudyError::Missing {
+        key: "bogie".into(),
+        why: "a bogie or a car needs its frame: mass, yaw_inertia, half_wheelbase".into(),
+    })?;
+    Ok(FrameParams {
+        mass: positive("bogie.mass", &b.mass, Dimension::Mass)?,
+        yaw_inertia: positive("bogie.yaw_inertia", &b.yaw_inertia, Dimension::Inertia)?,
+        roll_inertia: opt(
+            "bogie.roll_inertia",
+            b.roll_inertia.as_ref(),
+            Dimension::Inertia,
+            positive,
+        )?,
+        half_wheelbase: positive("bogie.half_wheelbase", &b.half_wheelbase, Dimension::Length)?,
+    })
+}
+
+fn secondary(f: &StudyFile) -> Result<Secondary, StudyError> {
+    let s = f.secondary.as_ref().ok_or_else(|| StudyError::Missing {
+        key: "secondary".into(),
+        why: "a bogie or a car needs its secondary suspension".into(),
+    })?;
+    use Dimension::*;
+    let spacing = positive(
+        "secondary.half_spring_spacing",
+        &s.half_spring_spacing,
+        Length,
+    )?;
+    let yaw_damping = opt(
+        "secondary.yaw_damping",
+        s.yaw_damping.as_ref(),
+        Damping,
+        non_negative,
+    )?;
+    let yaw_spacing = opt(
+        "secondary.yaw_damper_half_spacing",
+        s.yaw_damper_half_spacing.as_ref(),
+        Length,
+        positive,
+    )?;
+    if yaw_damping.is_some_and(|c| c > 0.0) && yaw_spacing.is_none() {
+        return Err(StudyError::Missing {
+            key: "secondary.yaw_damper_half_spacing".into(),
+            why: "secondary.yaw_damping needs the dampers' half spacing".into(),
+        });
+    }
+    Ok(Secondary {
+        lateral_stiffness: non_negative(
+            "secondary.lateral_stiffness",
+            &s.lateral_stiffness,
+            Stiffness,
+        )?,
+        longitudinal_stiffness: non_negative(
+            "secondary.longitudinal_stiffness",
+            &s.longitudinal_stiffness,
+            Stiffness,
+        )?,
+        lateral_damping: non_negative("secondary.lateral_damping", &s.lateral_damping, Damping)?,
+        longitudinal_damping: non_negative(
+            "secondary.longitudinal_damping",
+            &s.longitudinal_damping,
+            Damping,
+        )?,
+        half_spring_spacing: spacing,
+        yaw_damping: yaw_damping.unwrap_or(0.0),
+        yaw_damper_half_spacing: yaw_spacing.unwrap_or(spacing),
+        vertical_stiffness: opt(
+            "secondary.vertical_stiffness",
+            s.vertical_stiffness.as_ref(),
+            Stiffness,
+            non_negative,
+        )?
+        .unwrap_or(0.0),
+        vertical_damping: opt(
+            "secondary.vertical_damping",
+            s.vertical_damping.as_ref(),
+            Damping,
+            non_negative,
+        )?
+        .unwrap_or(0.0),
+        vertical_half_spacing: opt(
+            "secondary.vertical_half_spacing",
+            s.vertical_half_spacing.as_ref(),
+            Length,
+            positive,
+        )?
+        .unwrap_or(spacing),
+        height: height("secondary.height", s.height.as_ref())?,
+    })
+}
+
+fn carbody(f: &StudyFile, frame: &FrameParams) -> Result<CarBodyParams, StudyError> {
+    let c = f.carbody.as_ref().ok_or_else(|| StudyError::Missing {
+        key: "carbody".into(),
+        why: "a car needs its car body: mass, yaw_inertia, half_bogie_distance".into(),
+    })?;
+    let lb = positive(
+        "carbody.half_bogie_distance",
+        &c.half_bogie_distance,
+        Dimension::Length,
+    )?;
+    if lb <= frame.half_wheelbase {
+        return Err(rule(
+            "carbody.half_bogie_distance",
+            format!("{lb} m"),
+            &format!(
+                "must exceed bogie.half_wheelbase ({} m): the bogies would overlap",
+                frame.half_wheelbase
+            ),
+        ));
+    }
+    Ok(CarBodyParams {
+        mass: positive("carbody.mass", &c.mass, Dimension::Mass)?,
+        yaw_inertia: positive("carbody.yaw_inertia", &c.yaw_inertia, Dimension::Inertia)?,
+        roll_inertia: opt(
+            "carbody.roll_inertia",
+            c.roll_inertia.as_ref(),
+            Dimension::Inertia,
+            positive,
+        )?,
+        half_bogie_distance: lb,
+        secondary_height: height("carbody.secondary_height", c.secondary_height.as_ref())?,
+    })
+}
+
+/// A section the layout does not use is an error that says so.
+fn unused(f: &StudyFile, kind: &str, sections: &[(&str, bool)]) -> Result<(), StudyError> {
+    match sections.iter().find(|(_, present)| *present) {
+        Some((name, _)) => Err(rule(
+            name,
+            "given",
+            &format!("the layout vehicle.kind = \"{kind}\" has no {name}; remove the section or choose another kind"),
+        )),
+        None => {
+            let _ = f;
+            Ok(())
+        }
+    }
+}
+
+/// The layout of the study.
+pub(super) fn spec(f: &StudyFile) -> Result<VehicleSpec, StudyError> {
+    let kind = f.vehicle.as_ref().map_or("wheelset", |v| v.kind.as_str());
+    let has = |o: bool| o;
+    match kind {
+        "wheelset" => {
+            unused(
+                f,
+                kind,
+                &[
+                    ("bogie", has(f.bogie.is_some())),
+                    ("secondary", has(f.secondary.is_some())),
+                    ("carbody", has(f.carbody.is_some())),
+                ],
+            )?;
+            if f.suspension.height.is_some() {
+                return Err(rule("suspension.height", "given", "only acts on a rolling bogie frame (vehicle.kind \"bogie\" or \"car\" with bogie.roll_inertia)"));
+            }
+            Ok(VehicleSpec::Wheelset)
+        }
+        "bogie" => {
+            unused(f, kind, &[("carbody", f.carbody.is_some())])?;
+            Ok(VehicleSpec::Bogie {
+                frame: frame(f)?,
+                secondary: secondary(f)?,
+            })
+        }
+        "car" => {
+            let fr = frame(f)?;
+            let body = carbody(f, &fr)?;
+            if fr.roll_inertia.is_some() != body.roll_inertia.is_some() {
+                return Err(rule(
+                    if fr.roll_inertia.is_some() { "carbody.roll_inertia" } else { "bogie.roll_inertia" },
+                    "missing",
+                    "a car rolls as a whole: give both bogie.roll_inertia and carbody.roll_inertia (34 states) or neither (28)",
+                ));
+            }
+            Ok(VehicleSpec::Car {
+                frame: fr,
+                secondary: secondary(f)?,
+                body,
+            })
+        }
+        other => Err(StudyError::Choice {
+            key: "vehicle.kind".into(),
+            value: other.into(),
+            allowed: "\"wheelset\", \"bogie\", \"car\"",
+        }),
+    }
+}
