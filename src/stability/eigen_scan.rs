@@ -64,18 +64,17 @@ pub(super) fn eigen_scan<const N: usize>(
             let Some(z) = at else {
                 continue;
             };
-            // re-check: σ has opposite signs at the ends of the final bracket
-            let half = 0.5 * root.bracket.max(opts.rel_tol * root.x);
+            // re-check by fresh eigenvalues: σ has opposite signs 1e-6 V below and above (far
+            // enough that rounding in the eigenvalues cannot decide the sign)
             let side = |s: f64| {
                 eigenvalues(&sys.jacobian(s))
                     .and_then(|ev| nearest(&ev, (0.0, z.1)))
                     .map_or(f64::NAN, |z| z.0)
             };
-            let (below, above) = (side(root.x - 2.0 * half), side(root.x + 2.0 * half));
+            let delta = 1e-6 * root.x;
+            let (below, above) = (side(root.x - delta), side(root.x + delta));
             evaluations += 2;
-            if !(below.signum() != above.signum() || below == 0.0 || above == 0.0)
-                || !root.x.is_finite()
-            {
+            if !root.x.is_finite() || below.signum() == above.signum() || below.is_nan() {
                 continue;
             }
             let f_hz = z.1 / (2.0 * std::f64::consts::PI);
