@@ -237,3 +237,109 @@ fn vehicle_sections_are_checked() {
     let e = study::parse_in(&neg, "t", Some(&study_path(""))).expect_err("negative");
     assert!(e.to_string().contains("bogie.mass"), "{e}");
 }
+
+/// A continued bogie cycle is the attractor a long simulation settles on at the same speed:
+/// amplitude and period agree to 1e-6; the trivial multiplier is 1 to the integration accuracy;
+/// the cycle has the half-period symmetry x(t + T/2) = −x(t) of MODEL §9 and §11.
+#[test]
+fn continued_bogie_cycle_is_the_attractor_of_a_simulation() {
+    use critspeed::bifurcation::{analyse, BifurcationOptions};
+    use critspeed::system::ode::{integrate, integrate_to_section, OdeOptions, Tolerances};
+    use nalgebra::SVector;
+    let law = CreepLaw::Shen { friction: 0.3 };
+    let spec = VehicleSpec::Bogie {
+        frame: REFERENCE_FRAME,
+        secondary: REFERENCE_SECONDARY,
+    };
+    let bogie =
+        layouts::build(&spec, hunting_wheelset(law), &PrimaryVertical::default()).expect("bogie");
+    let mut opts = BifurcationOptions::new((1.0, 150.0));
+    opts.max_amplitude = 0.010;
+    let r = analyse("hunting bogie", &bogie, &opts).expect("branch");
+
+    eprintln!(
+        "{} cycles, {}, V_NL {:?}",
+        r.cycles.len(),
+        r.stop_reason,
+        r.nonlinear_critical_speed
+    );
+    assert_eq!(r.layout, "bogie");
+    assert!(r.cycles.iter().all(|c| c.body_amplitudes.len() == 3));
+    // the most strongly attracting stable cycle
+    let c = r
+        .cycles
+        .iter()
+        .filter(|c| c.stable)
+        .min_by(|a, b| a.max_multiplier_abs.total_cmp(&b.max_multiplier_abs))
+        .expect("a stable cycle");
+    eprintln!(
+        "cycle at {:.4} m/s: amplitude {:.6} mm, period {:.6} s, |mu| {:.3}, |trivial - 1| {:.1e}",
+        c.speed_m_s,
+        c.amplitude_y_m * 1e3,
+        c.period_s,
+        c.max_multiplier_abs,
+        c.trivial_multiplier_error
+    );
+    assert!(c.trivial_multiplier_error < 1e-6);
+    let tight = OdeOptions {
+        tol: Tolerances::new(1e-12, 1e-15).expect("valid"),
+        ..OdeOptions::default()
+    };
+    let x0 = SVector::<f64, 12>::from_column_slice(&c.x0);
+    // half-period symmetry
+    let half = integrate(&bogie, c.speed_m_s, &x0, 0.5 * c.period_s, &tight).expect("half");
+    let scale = x0.amax();
+    assert!(
+        (half.x + x0).amax() < 1e-7 * scale,
+        "{}",
+        (half.x + x0).amax()
+    );
+    // a simulation from 1.3 times the cycle's start, long enough for the transient to fade
+    let periods = (1e-9f64.ln() / c.max_multiplier_abs.ln()).ceil().max(20.0);
+    let settled = integrate(
+        &bogie,
+        c.speed_m_s,
+        &(x0 * 1.3),
+        periods * c.period_s,
+        &tight,
+    )
+    .expect("simulation");
+    let section = |x: &SVector<f64, 12>| -x[6];
+    let a = integrate_to_section(
+        &bogie,
+        c.speed_m_s,
+        &settled.x,
+        2.0 * c.period_s,
+        &section,
+        1e-9,
+        &tight,
+    )
+    .expect("integrates")
+    .expect("a maximum");
+    let b = integrate_to_section(
+        &bogie,
+        c.speed_m_s,
+        &a.x,
+        2.0 * c.period_s,
+        &section,
+        0.5 * c.period_s,
+        &tight,
+    )
+    .expect("integrates")
+    .expect("the next maximum");
+    let (amp, period) = (a.x[0].abs().max(b.x[0].abs()), b.t);
+    eprintln!(
+        "simulation after {periods} periods: amplitude {:.6} mm, period {period:.6} s",
+        amp * 1e3
+    );
+    assert!(
+        (amp / c.amplitude_y_m - 1.0).abs() < 1e-6,
+        "{amp} vs {}",
+        c.amplitude_y_m
+    );
+    assert!(
+        (period / c.period_s - 1.0).abs() < 1e-6,
+        "{period} vs {}",
+        c.period_s
+    );
+}
