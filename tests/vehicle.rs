@@ -343,3 +343,48 @@ fn continued_bogie_cycle_is_the_attractor_of_a_simulation() {
         c.period_s
     );
 }
+
+/// The eigenvalue scan that vehicles use, run on every shipped single-wheelset study, finds
+/// the crossings of the quartic Hurwitz scan (an independent method) to 1e-9 relative.
+#[test]
+fn eigenvalue_scan_equals_the_quartic_scan_on_wheelset_studies() {
+    use critspeed::stability::critical_speeds_by_eigenvalues;
+    let dir = study_path("");
+    let mut compared = 0;
+    for entry in std::fs::read_dir(&dir).expect("studies") {
+        let path = entry.expect("entry").path();
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let plan = study::load(&path).expect("study");
+        let model = plan.model().expect("model");
+        if model.states() != 4 {
+            continue;
+        }
+        for law in [CreepLaw::Kalker, model.creep_law()] {
+            let sys = LinearSystem::<4>::at_centre(&model.with_law(law));
+            let quartic = critical_speeds(&sys, law, &plan.linear).expect("quartic");
+            let eigen = critical_speeds_by_eigenvalues(&sys, law, &plan.linear).expect("eigen");
+            assert_eq!(
+                quartic.crossings.len(),
+                eigen.crossings.len(),
+                "{}: {quartic:?} vs {eigen:?}",
+                plan.name
+            );
+            for (q, e) in quartic.crossings.iter().zip(&eigen.crossings) {
+                let rel = (q.speed_m_s - e.speed_m_s).abs() / q.speed_m_s;
+                assert!(
+                    rel < 1e-9,
+                    "{}: {} vs {} m/s",
+                    plan.name,
+                    q.speed_m_s,
+                    e.speed_m_s
+                );
+                assert!((q.frequency_hz - e.frequency_hz).abs() < 1e-6 * q.frequency_hz);
+                assert_eq!(q.direction, e.direction);
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared >= 6, "{compared} crossings compared");
+}

@@ -9,7 +9,12 @@ use crate::contact::table::CreepSource;
 use crate::stability::CriticalSpeeds;
 use crate::study::Plan;
 
-fn crossings(s: &mut String, label: &str, c: &CriticalSpeeds) {
+fn crossings(
+    s: &mut String,
+    label: &str,
+    c: &CriticalSpeeds,
+    modes: Option<&[Option<crate::analysis::ModeShape>]>,
+) {
     if !c.stable_at_start {
         let _ = writeln!(
             s,
@@ -24,8 +29,8 @@ fn crossings(s: &mut String, label: &str, c: &CriticalSpeeds) {
             c.speed_range.0, c.speed_range.1
         );
     }
-    for x in &c.crossings {
-        let _ = writeln!(
+    for (k, x) in c.crossings.iter().enumerate() {
+        let _ = write!(
             s,
             "  {label:<22} {:<9} {:>12.6} {:>9.2} {:>10.4} {:>10.3}",
             x.direction.name(),
@@ -34,6 +39,11 @@ fn crossings(s: &mut String, label: &str, c: &CriticalSpeeds) {
             x.frequency_hz,
             x.wavelength_m
         );
+        // vehicles: the mode and the body that leads it
+        if let Some(Some(m)) = modes.and_then(|m| m.get(k)) {
+            let _ = write!(s, "  {} ({} leads)", m.label, m.leading_body);
+        }
+        s.push('\n');
     }
     for v in &c.divergence_speeds_m_s {
         let _ = writeln!(
@@ -62,10 +72,15 @@ pub fn linear(plan: &Plan, r: &LinearReport) -> String {
         "  {:<22} {:<9} {:>12} {:>9} {:>10} {:>10}",
         "model", "crossing", "speed (m/s)", "(km/h)", "freq (Hz)", "wave (m)"
     );
-    crossings(&mut s, "Kalker: linear V_L", &r.kalker);
+    let vehicle = r.layout.1 > 4;
+    if vehicle {
+        let _ = writeln!(s, "  vehicle: {} ({} states)", r.layout.0, r.layout.1);
+    }
+    let kalker_modes = vehicle.then_some(&r.kalker_modes[..]);
+    crossings(&mut s, "Kalker: linear V_L", &r.kalker, kalker_modes);
     if let Some(c) = &r.creep_law {
         let label = format!("{}: Hopf V_H", c.law.name());
-        crossings(&mut s, &label, c);
+        crossings(&mut s, &label, c, vehicle.then_some(&r.creep_law_modes[..]));
     }
     // How far from instability the top of the range is, so "no crossing" has a measure.
     for (name, spectra) in [

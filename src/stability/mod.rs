@@ -238,6 +238,17 @@ pub fn critical_speeds<const N: usize>(
     }
 }
 
+/// [`critical_speeds`] by the eigenvalue scan whatever the state size (for 4 states the
+/// quartic scan is the default; this is its independent cross-check).
+pub fn critical_speeds_by_eigenvalues<const N: usize>(
+    sys: &LinearSystem<N>,
+    law: CreepLaw,
+    opts: &LinearOptions,
+) -> Result<CriticalSpeeds, LinearError> {
+    check_options(opts)?;
+    eigen_scan::eigen_scan(sys, law, opts)
+}
+
 fn check_options(opts: &LinearOptions) -> Result<(), LinearError> {
     let (lo, hi) = opts.speed_range;
     if !(lo > 0.0 && hi > lo && hi.is_finite()) {
