@@ -19,7 +19,8 @@ fn benches(c: &mut Criterion) {
     let model = plan.model().expect("model");
     let opts = plan.bifurcation_options();
     let branch = analyse(&plan.name, &model, &opts).expect("branch");
-    let mid = branch.cycles[branch.cycles.len() / 2];
+    let mid = branch.cycles[branch.cycles.len() / 2].clone();
+    let x0: [f64; 4] = mid.x0.as_slice().try_into().expect("4 states");
     let mut g = c.benchmark_group("continuation");
     g.sample_size(20).measurement_time(Duration::from_secs(8));
     g.bench_function("periodic_orbit_solve", |b| {
@@ -27,7 +28,7 @@ fn benches(c: &mut Criterion) {
             cycle_at(
                 black_box(&model),
                 mid.speed_m_s * 1.001,
-                mid.x0,
+                x0,
                 mid.period_s,
                 opts.rtol,
             )

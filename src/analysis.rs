@@ -67,6 +67,15 @@ pub struct ModeShape {
     pub label: &'static str,
 }
 
+/// A body's name, complex y and ψ amplitudes, reach and kind.
+type RawMode = (
+    String,
+    nalgebra::Complex<f64>,
+    nalgebra::Complex<f64>,
+    f64,
+    BodyKind,
+);
+
 /// The mode shape of the eigenvector `v` (one (re, im) per state) of `vehicle`.
 pub fn mode_shape(vehicle: &Vehicle, v: &[(f64, f64)]) -> Option<ModeShape> {
     let c = |i: usize| v.get(i).map(|z| nalgebra::Complex::new(z.0, z.1));
@@ -80,20 +89,13 @@ pub fn mode_shape(vehicle: &Vehicle, v: &[(f64, f64)]) -> Option<ModeShape> {
         }
     };
     // how far each body reaches: its ends are where it carries the next bodies
-    let ends = |kind: BodyKind| match vehicle.layout_arms() {
-        (a, lb) => match kind {
-            BodyKind::Wheelset => 0.0,
-            BodyKind::Frame => a,
-            BodyKind::CarBody => lb,
-        },
+    let (a, lb) = vehicle.layout_arms();
+    let ends = |kind: BodyKind| match kind {
+        BodyKind::Wheelset => 0.0,
+        BodyKind::Frame => a,
+        BodyKind::CarBody => lb,
     };
-    let raw: Vec<(
-        String,
-        nalgebra::Complex<f64>,
-        nalgebra::Complex<f64>,
-        f64,
-        BodyKind,
-    )> = vehicle
+    let raw: Vec<RawMode> = vehicle
         .bodies
         .iter()
         .map(|b| {

@@ -352,16 +352,17 @@ impl Vehicle {
         let (q, qd) = x.split_at(n);
         let (vel, acc) = out.split_at_mut(n);
         vel.copy_from_slice(qd);
-        for i in 0..n {
+        for (i, a) in acc.iter_mut().enumerate() {
             let row = i * n..(i + 1) * n;
             let ks = self.stiffness[row.clone()].iter().zip(q);
             let cs = self.damping[row].iter().zip(qd);
-            acc[i] = -ks.fold(0.0, |s, (k, q)| s + k * q) - cs.fold(0.0, |s, (c, v)| s + c * v);
+            *a = -ks.fold(0.0, |s, (k, q)| s + k * q) - cs.fold(0.0, |s, (c, v)| s + c * v);
         }
         for &w in &self.wheelset_dofs {
             let (qy, qpsi) = self.contact.contact_forces(&self.wheelset_state(x, w), v);
-            acc[w] = qy + acc[w];
-            acc[w + 1] = qpsi + acc[w + 1];
+            // (a + b == b + a exactly: the same sum as MODEL §8 written out)
+            acc[w] += qy;
+            acc[w + 1] += qpsi;
         }
         for (a, m) in acc.iter_mut().zip(&self.mass) {
             *a /= m;
@@ -450,7 +451,7 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
         let c = self.contact.flange.map_or(0.0, |f| f.clearance);
         let y = self.wheelset_dofs.get(k / 2).map_or(f64::NAN, |&w| x[w]);
         // even k: right flange (y > δ_f); odd k: left flange (y < −δ_f), as the 4-state model
-        if k % 2 == 0 {
+        if k.is_multiple_of(2) {
             y - c
         } else {
             -y - c

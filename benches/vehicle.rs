@@ -1,0 +1,82 @@
+//! Benches of vehicles (MODEL §11) on the shipped DTU Cooperrider studies.
+//!
+//! * `vehicle/rhs_{bogie,car}`: one f(x; V) of 12 and 28 states.
+//! * `vehicle/linear_{bogie,car}`: the linear (Kalker) critical-speed solve from the model:
+//!   J0, J1 and the eigenvalue scan over the study's range and grid.
+//! * `vehicle/map_bogie_20x20`: a 20×20 stability map of the bogie (V_L and V_H over
+//!   primary longitudinal stiffness × secondary yaw damping), on the machine's threads.
+//!
+//! The car's whole bifurcation diagram is timed by the command (`critspeed bifurcation
+//! studies/dtu-cooperrider-car.toml`), not here: at about two minutes a run, criterion's ten
+//! samples would take longer than the rest of the benches together.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use critspeed::contact::creep::CreepLaw;
+use critspeed::stability::{critical_speeds, LinearSystem};
+use critspeed::study;
+use critspeed::sweep::{self, Shard, SweepOptions, SweepStudy};
+use critspeed::system::ode::VectorField;
+use nalgebra::SVector;
+use std::hint::black_box;
+use std::path::Path;
+
+fn load(name: &str) -> (study::Plan, critspeed::model::Vehicle) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("studies")
+        .join(name);
+    let plan = study::load(&path).expect("study");
+    let model = plan.model().expect("model");
+    (plan, model)
+}
+
+fn benches(c: &mut Criterion) {
+    let (bp, bogie) = load("dtu-cooperrider-bogie.toml");
+    let (cp, car) = load("dtu-cooperrider-car.toml");
+    let xb = SVector::<f64, 12>::from_fn(|i, _| 1e-4 * (i as f64 + 1.0).sin());
+    let xc = SVector::<f64, 28>::from_fn(|i, _| 1e-4 * (i as f64 + 1.0).sin());
+    c.bench_function("vehicle/rhs_bogie", |b| {
+        b.iter(|| VectorField::<12>::rhs(&bogie, black_box(&xb), black_box(100.0)))
+    });
+    c.bench_function("vehicle/rhs_car", |b| {
+        b.iter(|| VectorField::<28>::rhs(&car, black_box(&xc), black_box(100.0)))
+    });
+    let kb = bogie.with_law(CreepLaw::Kalker);
+    let kc = car.with_law(CreepLaw::Kalker);
+    c.bench_function("vehicle/linear_bogie", |b| {
+        b.iter(|| {
+            let sys = LinearSystem::<12>::at_centre(black_box(&kb));
+            critical_speeds(&sys, CreepLaw::Kalker, &bp.linear)
+        })
+    });
+    c.bench_function("vehicle/linear_car", |b| {
+        b.iter(|| {
+            let sys = LinearSystem::<28>::at_centre(black_box(&kc));
+            critical_speeds(&sys, CreepLaw::Kalker, &cp.linear)
+        })
+    });
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/dtu-cooperrider-bogie.toml"),
+    )
+    .expect("study text")
+        + "\n[sweep]\naxes = [ { key = \"suspension.longitudinal_stiffness\", from = \"1 MN/m\", to = \"10 MN/m\", count = 20, spacing = \"log\" },\n\
+           { key = \"secondary.yaw_damping\", from = \"20 kN s/m\", to = \"400 kN s/m\", count = 20, spacing = \"log\" } ]\n\
+           compute = [\"kalker\", \"hopf\"]\n";
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("studies");
+    let sweep = SweepStudy::parse_in(&text, "bench", Some(&folder)).expect("sweep study");
+    let mut group = c.benchmark_group("vehicle");
+    group.sample_size(10);
+    group.bench_function("map_bogie_20x20", |b| {
+        b.iter(|| {
+            let opts = SweepOptions {
+                threads: None,
+                shard: Shard::ALL,
+                records: None,
+            };
+            sweep::run(black_box(&sweep), &opts, None).map(|r| r.rows.len())
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(vehicle, benches);
+criterion_main!(vehicle);
