@@ -50,6 +50,7 @@ pub fn run(a: &TradeArgs, root: &Path) -> Result<(), Failure> {
             threads: a.threads,
             shard: None,
             shard_from_env: false,
+            shards: None,
         };
         super::sweep::compute_points(&args, root)?;
     }
