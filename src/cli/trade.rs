@@ -32,7 +32,7 @@ fn trade_plan(path: &Path) -> Result<trade::TradePlan, Failure> {
     let (_, file) = study_file(path)?;
     let table = file.trade.ok_or_else(|| {
         user(anyhow!(
-            "study {} has no [trade] section (see README, \"Trade studies\")",
+            "study {} has no [trade] section (see docs/sweeps.md, \"Trade studies\")",
             path.display()
         ))
     })?;
