@@ -17,15 +17,18 @@ use serde::de::{self, DeserializeSeed, Deserializer, IntoDeserializer, Visitor};
 use super::schema::StudyFile;
 
 /// Every study key and section, sorted.
-pub fn study_keys() -> Vec<String> {
+///
+/// Fails, naming the serde error, when a schema type refuses the placeholders (a custom
+/// `Deserialize` with its own rules, an untagged enum of sections, `#[serde(flatten)]`, whose
+/// fields serde does not announce): the list would be incomplete, so none is returned.
+pub fn study_keys() -> Result<Vec<String>, String> {
     let mut keys = Vec::new();
     let tracer = Tracer {
         path: String::new(),
         keys: &mut keys,
     };
-    // the placeholder values satisfy every field's type, so this cannot fail unless a schema
-    // type refuses every placeholder; then the keys traced so far are still returned
-    let _ = <StudyFile as serde::Deserialize>::deserialize(tracer);
+    <StudyFile as serde::Deserialize>::deserialize(tracer)
+        .map_err(|e| format!("the study schema cannot be traced: {e}"))?;
     for k in crate::trade::plan::TRADE_KEYS {
         keys.push(format!("trade.{k}"));
     }
@@ -35,7 +38,7 @@ pub fn study_keys() -> Vec<String> {
     keys.push("trade".into());
     keys.sort();
     keys.dedup();
-    keys
+    Ok(keys)
 }
 
 /// The keys and sections a parsed TOML table holds, written as [`study_keys`] writes them
@@ -73,13 +76,14 @@ pub fn keys_of(table: &toml::Table) -> Vec<String> {
 }
 
 /// The top-level sections (`wheelset`, `contact`, …) and keys (`name`), sorted.
-pub fn top_level_keys() -> Vec<String> {
-    let mut top: Vec<String> = study_keys()
+pub fn top_level_keys() -> Result<Vec<String>, String> {
+    let mut top: Vec<String> = study_keys()?
         .iter()
         .map(|k| k.split(['.', '[']).next().unwrap_or(k).to_string())
         .collect();
+    top.sort();
     top.dedup();
-    top
+    Ok(top)
 }
 
 #[derive(Debug)]
@@ -363,7 +367,7 @@ mod tests {
 
     #[test]
     fn keys_come_from_every_level_of_the_schema() {
-        let keys = study_keys();
+        let keys = study_keys().expect("traced");
         for k in [
             "name",
             "wheelset",
@@ -387,12 +391,13 @@ mod tests {
         sorted.dedup();
         assert_eq!(sorted.len(), keys.len());
         assert!(keys.iter().all(|k| !k.is_empty() && !k.ends_with('.')));
-        assert!(top_level_keys().contains(&"sweep".to_string()));
+        let top = top_level_keys().expect("traced");
+        assert!(top.contains(&"sweep".to_string()) && top.contains(&"name".to_string()));
     }
 
     #[test]
     fn the_shipped_studies_use_only_traced_keys() {
-        let keys = study_keys();
+        let keys = study_keys().expect("traced");
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("studies");
         let mut seen = 0;
         for e in std::fs::read_dir(&dir).expect("studies/") {
