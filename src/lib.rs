@@ -4,7 +4,8 @@
 //!
 //! The workflow, in the order the modules are used:
 //!
-//! 1. [`study`]: read a TOML study file (any accepted unit), validate it into an SI [`study::Plan`].
+//! 1. [`study`]: read a TOML study file (any accepted unit), validate it into an SI [`study::Plan`]
+//!    ([`study::keys::study_keys`] lists every key the schema accepts).
 //! 2. [`contact`]: the contact geometry (closed-form cone, or a cone on a circular rail head by
 //!    the rigid two-point contact method), Hertz patch, Kalker creep coefficients, creep laws.
 //! 3. [`model`]: the suspended wheelset's equations of motion $\dot x = f(x; V)$, one
@@ -24,6 +25,9 @@
 //! 8. [`trade`]: a study's `[trade]` over its sweep's results: the feasible designs, the best
 //!    one and the Pareto front of critical speed against the objective
 //!    ([`plot::heat_map_svg`] draws two-axis maps with contours).
+//!
+//! The command line ([`cli`]) is a thin layer over these steps; the user guide, `docs/README.md`,
+//! describes the study files, commands and output files.
 //!
 //! [`reference`](mod@reference) holds problems with known answers (closed-form critical speed, the Hopf
 //! normal form) that the tests and benches share.

@@ -30,6 +30,79 @@ fn run_without_a_study_writes_the_seed_outputs() {
     }
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("Kalker"), "{stdout}");
+    for f in [
+        "linear.json",
+        "damping.svg",
+        "bifurcation.svg",
+        "branch.csv",
+    ] {
+        let p = dir.join("out/seed-hunting").join(f);
+        assert!(p.is_file(), "{} written by the first run", p.display());
+    }
+}
+
+fn json(out: &std::process::Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON on stdout")
+}
+
+/// The first run's summary states what the single commands compute: the seed's V_L over
+/// [1, 4000] m/s against the paper's 40 m/s, and seed-hunting's V_L, V_H and V_NL.
+#[test]
+fn first_run_summary_agrees_with_the_commands() {
+    let dir = scratch("first-run");
+    let out = critspeed(&["run"], &dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let summary = String::from_utf8_lossy(&out.stdout);
+    let seed = std::fs::read_to_string(study("seed.toml")).expect("seed.toml");
+    let wide = seed.replace("\"300 m/s\"]", "\"4000 m/s\"]");
+    assert_ne!(wide, seed, "the seed study's range is [1, 300] m/s");
+    std::fs::write(dir.join("wide.toml"), wide).expect("write");
+    let lin = json(&critspeed(
+        &["--out", "o", "linear", "wide.toml", "--json"],
+        &dir,
+    ));
+    let v_l = lin["linear_critical_speed_m_s"]
+        .as_f64()
+        .expect("a V_L below 4000 m/s");
+    assert!(v_l > 300.0, "{v_l}");
+    assert!(
+        summary.contains(&format!("paper 40 m/s   critspeed {v_l:.1} m/s")),
+        "{summary}"
+    );
+    assert!(summary.contains("paper 35 m/s"), "{summary}");
+    let b = json(&critspeed(
+        &[
+            "--out",
+            "o",
+            "bifurcation",
+            &study("seed-hunting.toml"),
+            "--json",
+        ],
+        &dir,
+    ));
+    let f = |k: &str| b[k].as_f64().unwrap_or_else(|| panic!("{k}"));
+    let line = format!(
+        "V_L = {:.2} m/s ({:.0} km/h), V_H = {:.2} m/s ({:.0} km/h), supercritical, V_NL = {:.2} m/s",
+        f("kalker_critical_speed_m_s"),
+        f("kalker_critical_speed_m_s") * 3.6,
+        f("hopf_speed_m_s"),
+        f("hopf_speed_m_s") * 3.6,
+        f("nonlinear_critical_speed_m_s"),
+    );
+    assert!(summary.contains(&line), "{line}\n{summary}");
+    assert!(
+        summary.contains("out/seed-hunting/bifurcation.svg"),
+        "{summary}"
+    );
 }
 
 #[test]

@@ -191,6 +191,79 @@ hopf_speed_m_s,nonlinear_critical_speed_m_s,status,"
     );
 }
 
+/// Runs `critspeed --out s sweep study.toml ARGS` as Slurm array task `id` of a submission
+/// `--array=MIN-MAX` with `count` tasks.
+fn array_task(dir: &std::path::Path, args: &[&str], id: &str, min_max_count: [&str; 3]) -> Output {
+    let [min, max, count] = min_max_count;
+    Command::new(env!("CARGO_BIN_EXE_critspeed"))
+        .args(["--out", "s", "sweep", "study.toml", "--shard-from-env"])
+        .args(args)
+        .env("SLURM_ARRAY_TASK_ID", id)
+        .env("SLURM_ARRAY_TASK_MIN", min)
+        .env("SLURM_ARRAY_TASK_MAX", max)
+        .env("SLURM_ARRAY_TASK_STEP", "1")
+        .env("SLURM_ARRAY_TASK_COUNT", count)
+        .current_dir(dir)
+        .output()
+        .expect("runs")
+}
+
+/// The defect found under Slurm 22.05: after `scancel` of one task of a 2-task array,
+/// `sbatch --array=1 job.sh` sets SLURM_ARRAY_TASK_COUNT = 1 and MIN = 1, so the resubmitted
+/// task ran as shard 0/1 and recomputed the whole grid instead of its own missing points.
+#[test]
+fn resubmitted_array_index_ran_as_shard_0_of_1() {
+    let dir = grid_dir("resubmit");
+    ok(&critspeed(&["--out", "w", "sweep", "study.toml"], &dir));
+    let whole = read(dir.join("w/grid/sweep.csv"));
+    // the first submission, --array=0-1 with --shards 2
+    for id in ["0", "1"] {
+        ok(&array_task(&dir, &["--shards", "2"], id, ["0", "1", "2"]));
+    }
+    // task 1 (points 1, 3, 5, 7) was cancelled after its first point
+    let rec_path = dir.join("s/grid/sweep.shard-1-of-2.records.csv");
+    let rec = String::from_utf8(read(rec_path.clone())).expect("utf8");
+    let lines: Vec<&str> = rec.lines().collect();
+    let head = lines
+        .iter()
+        .take_while(|l| !l.starts_with(|c: char| c.is_ascii_digit()))
+        .count();
+    std::fs::write(&rec_path, lines[..head + 1].join("\n") + "\n").expect("write");
+
+    // resubmitted as the README's script advises, without --shards: refused, nothing computed
+    let refused = array_task(&dir, &[], "1", ["1", "1", "1"]);
+    assert_eq!(refused.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        err.contains("SLURM_ARRAY_TASK_COUNT = 1 makes this task shard 0/1")
+            && err.contains("--shards 2"),
+        "{err}"
+    );
+    assert!(!dir.join("s/grid/sweep.shard-0-of-1.records.csv").exists());
+
+    // with --shards 2 the lone index 1 is shard 1/2 and computes only its 3 missing points
+    let out = array_task(&dir, &["--shards", "2"], "1", ["1", "1", "1"]);
+    ok(&out);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("resuming: 1 of 4 points"), "{err}");
+    assert!(err.contains("shard 1/2 computes 4"), "{err}");
+    assert!(
+        err.contains("4 points finished (3 this run, 1 resumed)"),
+        "{err}"
+    );
+    ok(&critspeed(&["--out", "s", "merge", "study.toml"], &dir));
+    assert_eq!(
+        whole,
+        read(dir.join("s/grid/sweep.csv")),
+        "merged after resubmission"
+    );
+
+    // an index beyond the shards is a user error naming the array to submit
+    let out = array_task(&dir, &["--shards", "2"], "2", ["0", "2", "3"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--array=0-1"));
+}
+
 #[test]
 fn merge_refuses_another_studys_shard() {
     let dir = grid_dir("foreign");

@@ -131,7 +131,7 @@ pub(super) fn write(dir: &Path, file: &str, bytes: &[u8]) -> Result<(), Failure>
     Ok(())
 }
 
-fn linear(plan: &Plan, model: &Vehicle, root: &Path) -> Result<LinearReport, Failure> {
+pub(super) fn linear(plan: &Plan, model: &Vehicle, root: &Path) -> Result<LinearReport, Failure> {
     let report = analysis::linear(plan, model)
         .context("linear stability analysis")
         .map_err(compute)?;
@@ -150,7 +150,16 @@ fn linear(plan: &Plan, model: &Vehicle, root: &Path) -> Result<LinearReport, Fai
 }
 
 fn bifurcation(plan: &Plan, model: &Vehicle, root: &Path) -> Result<BifurcationReport, Failure> {
-    let opts = plan.bifurcation_options();
+    bifurcation_with(plan, model, root, &plan.bifurcation_options())
+}
+
+/// The bifurcation diagram with the given options (the study's, or the first run's).
+pub(super) fn bifurcation_with(
+    plan: &Plan,
+    model: &Vehicle,
+    root: &Path,
+    opts: &crate::bifurcation::BifurcationOptions,
+) -> Result<BifurcationReport, Failure> {
     statusln!(
         "continuing the hunting cycles of '{}' over [{}, {}] m/s (up to {} cycles, amplitude {} mm)",
         plan.name,
@@ -175,7 +184,7 @@ fn bifurcation(plan: &Plan, model: &Vehicle, root: &Path) -> Result<BifurcationR
         }
     };
     let report =
-        crate::bifurcation::analyse_with_progress(&plan.name, model, &opts, Some(&progress))
+        crate::bifurcation::analyse_with_progress(&plan.name, model, opts, Some(&progress))
             .map_err(|e| compute(anyhow!(e)))?;
     let clear = if tty { "\r" } else { "" };
     statusln!(
@@ -249,7 +258,11 @@ fn simulate(
     Ok(())
 }
 
-fn geometry(plan: &Plan, model: &Vehicle, root: &Path) -> Result<GeometryReport, Failure> {
+pub(super) fn geometry(
+    plan: &Plan,
+    model: &Vehicle,
+    root: &Path,
+) -> Result<GeometryReport, Failure> {
     let g = analysis::geometry(plan, model);
     let dir = out_dir(root, plan)?;
     write(&dir, "geometry.csv", output::geometry_csv(&g).as_bytes())?;
@@ -259,21 +272,23 @@ fn geometry(plan: &Plan, model: &Vehicle, root: &Path) -> Result<GeometryReport,
 }
 
 fn run(root: &Path, study: Option<&Path>) -> Result<(), Failure> {
-    let plan = match study {
-        Some(p) => load(p)?,
-        None => {
-            statusln!("no study given: running the embedded seed study (studies/seed.toml)");
-            study::parse(study::DEFAULT_STUDY, "embedded seed study").map_err(compute)?
-        }
-    };
-    let model = build(&plan)?;
-    let g = geometry(&plan, &model, root)?;
+    match study {
+        Some(p) => run_study(root, &load(p)?).map(|_| ()),
+        None => super::first_run::run(root),
+    }
+}
+
+/// `critspeed run STUDY`: geometry, linear stability and, when the study has a
+/// `[bifurcation]` section, the diagram; the tables on stdout.
+pub(super) fn run_study(root: &Path, plan: &Plan) -> Result<LinearReport, Failure> {
+    let model = build(plan)?;
+    let g = geometry(plan, &model, root)?;
     results(&table::geometry(&g))?;
-    let report = linear(&plan, &model, root)?;
-    results(&table::linear(&plan, &report))?;
+    let report = linear(plan, &model, root)?;
+    results(&table::linear(plan, &report))?;
     if plan.bifurcation.is_some() {
-        let b = bifurcation(&plan, &model, root)?;
+        let b = bifurcation(plan, &model, root)?;
         results(&table::bifurcation(&b))?;
     }
-    Ok(())
+    Ok(report)
 }

@@ -10,6 +10,7 @@
 mod commands;
 mod conicity;
 mod console;
+mod first_run;
 mod ramp;
 mod sweep;
 mod table;
@@ -36,8 +37,8 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Everything the study asks for (geometry, linear stability, and the bifurcation
-    /// diagram when the study has a `[bifurcation]` section). Without STUDY, runs the embedded
-    /// seed study and writes out/seed/.
+    /// diagram when the study has a `[bifurcation]` section). Without STUDY, the first run:
+    /// the embedded seed study and the seed made to hunt (seed-hunting) with its diagram.
     Run {
         /// Study file (TOML); omit for the embedded seed study.
         study: Option<PathBuf>,

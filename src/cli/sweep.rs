@@ -26,10 +26,15 @@ pub struct SweepArgs {
     /// Compute only every N-th point from I (0 <= I < N), into its own records file.
     #[arg(long, conflicts_with = "shard_from_env")]
     pub shard: Option<String>,
-    /// Take the shard from a Slurm job array: I = (SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN)
-    /// / SLURM_ARRAY_TASK_STEP, N = SLURM_ARRAY_TASK_COUNT.
+    /// Take the shard from a Slurm job array. With --shards N: I = SLURM_ARRAY_TASK_ID (submit
+    /// --array=0-(N-1); a resubmitted index keeps its shard). Without: I = (SLURM_ARRAY_TASK_ID
+    /// - SLURM_ARRAY_TASK_MIN) / SLURM_ARRAY_TASK_STEP, N = SLURM_ARRAY_TASK_COUNT.
     #[arg(long)]
     pub shard_from_env: bool,
+    /// The number of shards N of the whole sweep, beside --shard-from-env: the shard count then
+    /// does not depend on how many tasks a submission holds.
+    #[arg(long, requires = "shard_from_env")]
+    pub shards: Option<usize>,
 }
 
 /// `critspeed merge` arguments.
@@ -96,15 +101,21 @@ pub(super) fn compute_points(
     root: &Path,
 ) -> Result<Option<(SweepStudy, Vec<PointRecord>)>, Failure> {
     let study = SweepStudy::load(&args.study).map_err(failure)?;
-    let shard = match (&args.shard, args.shard_from_env) {
-        (Some(s), _) => Shard::parse(s).map_err(failure)?,
-        (None, true) => Shard::from_env(|k| std::env::var(k).ok()).map_err(failure)?,
-        (None, false) => Shard::ALL,
-    };
     if args.threads == Some(0) {
         return Err(user(anyhow!("--threads 0: must be at least 1")));
     }
     let dir = super::commands::out_dir(root, &study.base)?;
+    let env = |k: &str| std::env::var(k).ok();
+    let shard = match (&args.shard, args.shard_from_env, args.shards) {
+        (Some(s), _, _) => Shard::parse(s).map_err(failure)?,
+        (None, true, Some(n)) => Shard::from_env_with_count(env, n).map_err(failure)?,
+        (None, true, None) => {
+            let s = Shard::from_env(env).map_err(failure)?;
+            check_recorded_count(s, &dir)?;
+            s
+        }
+        (None, false, _) => Shard::ALL,
+    };
     let records = dir.join(shard.records_file());
     let total = study.spec.len();
     let mine = shard.ids(total).len();
@@ -179,6 +190,32 @@ pub(super) fn compute_points(
     }
     finish(&study, &dir, &res.rows)?;
     Ok(Some((study, res.rows)))
+}
+
+/// A shard count taken from the submission (SLURM_ARRAY_TASK_COUNT) must be the one the
+/// folder's shard records were written with: a single array index resubmitted alone has
+/// COUNT = 1 and would recompute the whole grid as shard 0/1.
+fn check_recorded_count(shard: Shard, dir: &Path) -> Result<(), Failure> {
+    let names: Vec<String> = std::fs::read_dir(dir)
+        .map_err(compute)?
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .collect();
+    let counts = sweep::shard::recorded_counts(names.iter().map(String::as_str));
+    match counts.iter().find(|&&n| n != shard.count) {
+        None => Ok(()),
+        Some(&n) => Err(user(anyhow!(
+            "SLURM_ARRAY_TASK_COUNT = {} makes this task shard {}/{}, but {} holds the records \
+             of {n} shards (sweep.shard-I-of-{n}.records.csv): the count comes from the \
+             submission, so a resubmitted array index would not resume its shard; pass \
+             --shards {n} beside --shard-from-env (the array index is then the shard index, \
+             --array=0-{}), or move the old records away",
+            shard.count,
+            shard.index,
+            shard.count,
+            dir.display(),
+            n - 1
+        ))),
+    }
 }
 
 /// Writes sweep.csv and the figures.

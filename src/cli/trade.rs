@@ -32,7 +32,7 @@ fn trade_plan(path: &Path) -> Result<trade::TradePlan, Failure> {
     let (_, file) = study_file(path)?;
     let table = file.trade.ok_or_else(|| {
         user(anyhow!(
-            "study {} has no [trade] section (see README, \"Trade studies\")",
+            "study {} has no [trade] section (see docs/sweeps.md, \"Trade studies\")",
             path.display()
         ))
     })?;
@@ -50,6 +50,7 @@ pub fn run(a: &TradeArgs, root: &Path) -> Result<(), Failure> {
             threads: a.threads,
             shard: None,
             shard_from_env: false,
+            shards: None,
         };
         super::sweep::compute_points(&args, root)?;
     }

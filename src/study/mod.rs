@@ -1,8 +1,11 @@
 //! Study files: read (schema), convert units once, check the physics, fill defaults (plan).
 //!
-//! The plan is entirely SI; nothing after it sees strings or millimetres. See README.md for
-//! the file format; [`DEFAULT_STUDY`] is the seed study embedded in the binary.
+//! The plan is entirely SI; nothing after it sees strings or millimetres. The file format is
+//! `docs/studies.md`; [`keys::study_keys`] lists every key the schema accepts (the guide's
+//! documentation test demands each be documented). [`DEFAULT_STUDY`] is the seed study and
+//! [`HUNTING_STUDY`] the seed made to hunt, both embedded in the binary for the first run.
 
+pub mod keys;
 mod profiles;
 pub mod schema;
 mod tabulated;
@@ -25,6 +28,10 @@ use units::{parse_quantity, Dimension, UnitProblem};
 
 /// The seed study (MODEL §10), embedded so that `critspeed run` works with no file.
 pub const DEFAULT_STUDY: &str = include_str!("../../studies/seed.toml");
+
+/// The seed wheelset made to hunt near 70 m/s (`studies/seed-hunting.toml`), embedded for the
+/// first run (`critspeed run` without a study).
+pub const HUNTING_STUDY: &str = include_str!("../../studies/seed-hunting.toml");
 
 /// A problem with a study file. Every variant names the key and the offending value.
 #[derive(Debug, thiserror::Error)]

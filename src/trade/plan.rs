@@ -20,8 +20,14 @@ use super::{axis_dimension, Constraint, Objective, ResultKind, Sense, Target, Tr
 use crate::study::units::{parse_quantity, Dimension};
 use crate::study::StudyError;
 
+/// The keys of a `[trade]` table.
+pub const TRADE_KEYS: &[&str] = &["minimize", "maximize", "constraints", "pareto"];
+/// The keys of one of its `constraints`.
+pub const CONSTRAINT_KEYS: &[&str] = &["result", "axis", "at_least", "at_most", "factor"];
+
 const RESULTS: &str = "kalker_critical_speed, hopf_speed, nonlinear_critical_speed";
-const AXES: &str = "a swept key such as suspension.longitudinal_stiffness (see README [trade])";
+const AXES: &str =
+    "a swept key such as suspension.longitudinal_stiffness (see docs/sweeps.md, \"Trade studies\")";
 
 fn rule(key: &str, value: impl std::fmt::Display, rule: &str) -> StudyError {
     StudyError::Rule {
@@ -143,7 +149,7 @@ fn constraint(v: &Value, key: &str) -> Result<Constraint, StudyError> {
     let t = v
         .as_table()
         .ok_or_else(|| rule(key, v, "must be a table { result = ..., at_least = ... }"))?;
-    unknown_keys(t, key, &["result", "axis", "at_least", "at_most", "factor"])?;
+    unknown_keys(t, key, CONSTRAINT_KEYS)?;
     let (target, dim) = target(t, key)?;
     let factor = match t.get("factor") {
         None => 1.0,
@@ -226,11 +232,7 @@ pub(crate) fn fmt_si(v: f64) -> String {
 /// Validate a `[trade]` table into a plan. Errors name the key (`trade.constraints[0].at_least`),
 /// the value and the rule.
 pub fn trade_plan(t: &Table) -> Result<TradePlan, StudyError> {
-    unknown_keys(
-        t,
-        "trade",
-        &["minimize", "maximize", "constraints", "pareto"],
-    )?;
+    unknown_keys(t, "trade", TRADE_KEYS)?;
     let objective = objective(t)?;
     let constraints = match t.get("constraints") {
         None => Vec::new(),
