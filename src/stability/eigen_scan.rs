@@ -56,7 +56,27 @@ impl<const N: usize> Scan<'_, N> {
             self.interval(lo, &mid, depth + 1)?;
             return self.interval(&mid, hi, depth + 1);
         }
-        self.locate(lo, hi);
+        self.narrow(lo, hi)
+    }
+
+    /// One net crossing between `lo` and `hi`: bisect on the count of unstable pairs until the
+    /// interval is 1e-6 V wide (there the crossing pair moves far less than its distance to any
+    /// other, even for the near-double pairs of two alike bogies), then locate it.
+    fn narrow(&mut self, lo: &End, hi: &End) -> Result<(), LinearError> {
+        let (mut lo, mut hi) = (lo.clone(), hi.clone());
+        while hi.v - lo.v > 1e-6 * hi.v {
+            let mid = self.end(0.5 * (lo.v + hi.v))?;
+            if mid.count == lo.count {
+                lo = mid;
+            } else if mid.count == hi.count {
+                hi = mid;
+            } else {
+                // another pair moved too: split again
+                self.interval(&lo, &mid, 0)?;
+                return self.interval(&mid, &hi, 0);
+            }
+        }
+        self.locate(&lo, &hi);
         Ok(())
     }
 
