@@ -169,6 +169,7 @@ pub fn cycle_at(
         params,
         amplitude: &amplitude,
         progress: None,
+        cancel: None,
     };
     c.solve_at(OrbitPoint {
         x0: SVector::from(x0),
@@ -251,6 +252,35 @@ pub fn analyse_with_progress(
     opts: &BifurcationOptions,
     progress: Option<&(dyn Fn(usize, f64, f64) + Sync)>,
 ) -> Result<BifurcationReport, String> {
+    analyse_with_hooks(
+        study,
+        model,
+        opts,
+        Hooks {
+            progress,
+            cancel: None,
+        },
+    )
+}
+
+/// What a caller can attach to a running analysis.
+#[derive(Clone, Copy, Default)]
+pub struct Hooks<'a> {
+    /// called as `progress(cycle index, speed m/s, amplitude m)` after each cycle
+    pub progress: Option<&'a (dyn Fn(usize, f64, f64) + Sync)>,
+    /// asked before each continuation step; `true` ends the branch there (stop reason
+    /// "cancelled"): how a Python caller's Ctrl-C reaches the computation
+    pub cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
+}
+
+/// [`analyse`] with a progress report and a cancellation hook.
+pub fn analyse_with_hooks(
+    study: &str,
+    model: &Wheelset,
+    opts: &BifurcationOptions,
+    hooks: Hooks<'_>,
+) -> Result<BifurcationReport, String> {
+    let Hooks { progress, cancel } = hooks;
     let ode = ode_options(opts.rtol)?;
     let kalker = model.with_law(CreepLaw::Kalker);
     let kalker_critical_speed_m_s = critical_speeds(
@@ -322,6 +352,7 @@ pub fn analyse_with_progress(
         params,
         amplitude: &amplitude,
         progress: Some(&report_point),
+        cancel,
     };
     let start = OrbitPoint {
         x0: SVector::zeros(),
@@ -381,6 +412,7 @@ fn fill(report: &mut BifurcationReport, branch: &Branch<4>, model: &Wheelset, od
         BranchStop::StepTooSmall { param, newton } => {
             format!("step too small at {param:.4} m/s (Newton: {newton:?})")
         }
+        BranchStop::Cancelled => format!("cancelled after {} cycles", branch.points.len()),
     };
     let hopf_speed = report.hopf.map(|h| h.speed_m_s);
     report.hopf_type = match (hopf_speed, report.cycles.first()) {

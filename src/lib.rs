@@ -42,6 +42,7 @@
 //! ```
 
 pub mod analysis;
+pub mod api;
 pub mod bifurcation;
 pub mod cli;
 pub mod conicity;
