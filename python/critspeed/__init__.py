@@ -199,7 +199,7 @@ def sweep(
     """The study's ``[sweep]``: ``{column of sweep.csv: numpy array}``, one entry per point.
 
     Columns ``point_id``, one per axis (named with its unit, e.g.
-    ``suspension.lateral_stiffness_N_m``), ``kalker_critical_speed_m_s``, ``hopf_speed_m_s``,
+    ``suspension.lateral_stiffness_n_per_m``), ``kalker_critical_speed_m_s``, ``hopf_speed_m_s``,
     ``nonlinear_critical_speed_m_s`` (NaN where not computed or not found), ``status``
     (strings), ``kalker_frequency_hz``, ``hopf_frequency_hz``, ``nonlinear_located``,
     ``stable_up_to_m_s``. A column's type follows its cells: numbers (empty = NaN), booleans,
