@@ -162,11 +162,16 @@ fn source(kind: &str, value: &Bound<'_, PyAny>) -> PyResult<Source> {
     }
 }
 
-/// Writes `files` into `out/<name>/` when `out` is given.
-fn write(out: Option<&PathBuf>, name: &str, f: PyResult<Vec<files::File>>) -> PyResult<()> {
+/// Writes the files `make` renders into `out/<name>/`, when `out` is given (rendering the
+/// figures costs time: nothing is rendered without `out`).
+fn write(
+    out: Option<&PathBuf>,
+    name: &str,
+    make: impl FnOnce() -> Result<Vec<files::File>, Failure>,
+) -> PyResult<()> {
     if let Some(root) = out {
         let dir = files::folder(root, name).map_err(raise)?;
-        files::write(&dir, &f?, &mut |_| {}).map_err(raise)?;
+        files::write(&dir, &make().map_err(raise)?, &mut |_| {}).map_err(raise)?;
     }
     Ok(())
 }
@@ -264,7 +269,7 @@ fn linear<'py>(
         })
         .map_err(raise)?;
     if let Some(f) = written {
-        write(out.as_ref(), &name, f.map_err(raise))?;
+        write(out.as_ref(), &name, || f)?;
     }
     to_py(py, &json)
 }
@@ -287,11 +292,7 @@ fn bifurcation<'py>(
         };
         api::bifurcation(&p, hooks)
     })?;
-    write(
-        out.as_ref(),
-        &r.study,
-        files::bifurcation(&r).map_err(raise),
-    )?;
+    write(out.as_ref(), &r.study, || files::bifurcation(&r))?;
     let json = critspeed::output::bifurcation_json(&r);
     let csv = critspeed::output::branch_csv(&r);
     Ok((to_py(py, &json)?, columns_py(py, &csv, api::kinds::BRANCH)?))
@@ -323,11 +324,7 @@ fn simulate<'py>(
         let runs = api::simulate(&p, &req, &|_| {}, Some(cancel))?;
         Ok((p.plan().name.clone(), runs))
     })?;
-    write(
-        out.as_ref(),
-        &name,
-        files::simulate(&name, &runs).map_err(raise),
-    )?;
+    write(out.as_ref(), &name, || files::simulate(&name, &runs))?;
     columns_py(
         py,
         &critspeed::output::simulate_csv(&runs),
@@ -362,11 +359,9 @@ fn sweep<'py>(
         let res = api::sweep(&study, &opts, None, Some(cancel))?;
         Ok((study, res.rows))
     })?;
-    write(
-        out.as_ref(),
-        &study.base.name,
-        files::sweep(&study, &rows).map_err(raise),
-    )?;
+    write(out.as_ref(), &study.base.name, || {
+        files::sweep(&study, &rows)
+    })?;
     columns_py(
         py,
         &critspeed::sweep::sweep_csv(&study.spec.axes, &rows),
@@ -416,11 +411,7 @@ fn conicity<'py>(
             Ok((name, results))
         })
         .map_err(raise)?;
-    write(
-        out.as_ref(),
-        &name,
-        files::conicity(&name, &results).map_err(raise),
-    )?;
+    write(out.as_ref(), &name, || files::conicity(&name, &results))?;
     to_py(py, &api::conicity_json(&results))
 }
 
@@ -437,7 +428,7 @@ fn geometry<'py>(
     let g = py
         .detach(|| -> Result<_, Failure> { Ok(api::geometry(&Prepared::new(src.plan()?)?)) })
         .map_err(raise)?;
-    write(out.as_ref(), &g.study, files::geometry(&g).map_err(raise))?;
+    write(out.as_ref(), &g.study, || files::geometry(&g))?;
     columns_py(
         py,
         &critspeed::output::geometry_csv(&g),

@@ -13,19 +13,20 @@
 //! sweep points and simulated speeds; the CLI passes none.
 
 mod columns;
-pub use crate::bifurcation::Hooks;
 pub mod files;
 mod source;
 
 use anyhow::{anyhow, Context};
 use serde_json::{json, Value};
 
+pub use crate::bifurcation::Hooks;
 pub use columns::{columns, Column, Kind};
+pub use source::Source;
+
 /// Column types of the CSV files read back by [`columns`].
 pub mod kinds {
     pub use super::columns::{BRANCH, NUMBERS, SWEEP};
 }
-pub use source::Source;
 
 use crate::analysis::{self, GeometryReport, LinearReport};
 use crate::bifurcation::BifurcationReport;
