@@ -25,6 +25,10 @@
 //!    one and the Pareto front of critical speed against the objective
 //!    ([`plot::heat_map_svg`] draws two-axis maps with contours).
 //!
+//! [`api`] is the front door over all of this that the command line and the Python package
+//! (`python/`, docs/python.md) both call: a study (file, TOML text or JSON object) in, reports
+//! and the bytes of their files out, with cancellation hooks for long analyses.
+//!
 //! [`reference`](mod@reference) holds problems with known answers (closed-form critical speed, the Hopf
 //! normal form) that the tests and benches share.
 //!
