@@ -5,6 +5,9 @@
 //! * `api_linear_file`: read the file, validate the plan, build the model, the linear analysis
 //!   (critical speeds and both 300-speed spectra), the JSON object.
 //! * `api_linear_prepared`: the linear analysis and its JSON object from a built model.
+//! * `api_linear_small_text`: `api_linear_file` from TOML text with a small linear section
+//!   (`grid_points = 16`, `spectrum_points = 2`), so that the computation is short and a
+//!   Python call's overhead shows: the same text is timed from Python in docs/python.md.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use critspeed::api::{self, Prepared, Source};
@@ -19,6 +22,18 @@ fn benches(c: &mut Criterion) {
     c.bench_function("api_linear_file", |b| {
         b.iter(|| {
             let p = Prepared::new(Source::file(black_box(path))?.plan()?)?;
+            Ok::<_, api::Failure>(critspeed::output::linear_json(&api::linear(&p)?))
+        })
+    });
+    let small = std::fs::read_to_string(path)
+        .expect("seed-hunting study")
+        .replace(
+            "[linear]",
+            "[linear]\ngrid_points = 16\nspectrum_points = 2",
+        );
+    c.bench_function("api_linear_small_text", |b| {
+        b.iter(|| {
+            let p = Prepared::new(Source::text(black_box(&small), "<TOML text>").plan()?)?;
             Ok::<_, api::Failure>(critspeed::output::linear_json(&api::linear(&p)?))
         })
     });
