@@ -221,3 +221,20 @@ def test_an_interrupted_sweep_resumes_from_its_records(tmp_path):
     fresh = critspeed.sweep(d, threads=2)
     for k in fresh:
         assert list(map(str, whole[k])) == list(map(str, fresh[k])), k
+
+
+def test_a_numerical_failure_raises_computation_error_with_the_cli_message(tmp_path):
+    # S1002 on UIC60 at a 1200 mm gauge: the wheels cannot sit on the rails, the rigid contact
+    # solve fails at the centre (the CLI exits with 1)
+    text = (REPO / "studies" / "s1002-uic60.toml").read_text()
+    text = text.replace('"profiles/', f'"{REPO / "studies" / "profiles"}/')
+    text = text.replace('track_gauge = "1435 mm"', 'track_gauge = "1200 mm"')
+    f = tmp_path / "narrow.toml"
+    f.write_text(text)
+    p = cli("linear", f, "--out", tmp_path, check=False)
+    assert p.returncode == 1, p.stderr
+    with pytest.raises(critspeed.ComputationError) as e:
+        critspeed.linear(f)
+    assert "rigid contact solve did not converge" in str(e.value)
+    assert p.stderr.strip() == "computation failed: " + str(e.value)
+    assert not (tmp_path / "s1002-uic60").exists()
