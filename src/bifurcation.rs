@@ -185,6 +185,7 @@ pub fn cycle_at<const N: usize>(
         params,
         amplitude: &amplitude,
         progress: None,
+        cancel: None,
     };
     c.solve_at(OrbitPoint {
         x0: SVector::from(x0),
@@ -313,8 +314,15 @@ pub fn analyse_with_progress(
     opts: &BifurcationOptions,
     progress: Option<&(dyn Fn(usize, f64, f64) + Sync)>,
 ) -> Result<BifurcationReport, String> {
-    crate::with_states!(model.states(), N => analyse_states::<N>(study, model, opts, progress),
-        _ => Err(format!("no analysis is compiled for {} states", model.states())))
+    analyse_with_hooks(
+        study,
+        model,
+        opts,
+        Hooks {
+            progress,
+            cancel: None,
+        },
+    )
 }
 
 /// The state components with their SI units: the 4-state names of `branch.csv` for the
@@ -342,12 +350,34 @@ pub fn state_names(model: &Vehicle) -> Vec<String> {
         .collect()
 }
 
+/// What a caller can attach to a running analysis.
+#[derive(Clone, Copy, Default)]
+pub struct Hooks<'a> {
+    /// called as `progress(cycle index, speed m/s, amplitude m)` after each cycle
+    pub progress: Option<&'a (dyn Fn(usize, f64, f64) + Sync)>,
+    /// asked before each continuation step; `true` ends the branch there (stop reason
+    /// "cancelled"): how a Python caller's Ctrl-C reaches the computation
+    pub cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
+}
+
+/// [`analyse`] with a progress report and a cancellation hook, any layout.
+pub fn analyse_with_hooks(
+    study: &str,
+    model: &Vehicle,
+    opts: &BifurcationOptions,
+    hooks: Hooks<'_>,
+) -> Result<BifurcationReport, String> {
+    crate::with_states!(model.states(), N => analyse_states::<N>(study, model, opts, hooks),
+        _ => Err(format!("no analysis is compiled for {} states", model.states())))
+}
+
 fn analyse_states<const N: usize>(
     study: &str,
     model: &Vehicle,
     opts: &BifurcationOptions,
-    progress: Option<&(dyn Fn(usize, f64, f64) + Sync)>,
+    hooks: Hooks<'_>,
 ) -> Result<BifurcationReport, String> {
+    let Hooks { progress, cancel } = hooks;
     let ode = ode_options(opts.rtol)?;
     let kalker = model.with_law(CreepLaw::Kalker);
     let kalker_critical_speed_m_s = critical_speeds(
@@ -426,6 +456,7 @@ fn analyse_states<const N: usize>(
         params,
         amplitude: &amplitude,
         progress: Some(&report_point),
+        cancel,
     };
     let start = OrbitPoint {
         x0: SVector::zeros(),
@@ -497,6 +528,7 @@ fn fill<const N: usize>(
         BranchStop::StepTooSmall { param, newton } => {
             format!("step too small at {param:.4} m/s (Newton: {newton:?})")
         }
+        BranchStop::Cancelled => format!("cancelled after {} cycles", branch.points.len()),
     };
     let hopf_speed = report.hopf.map(|h| h.speed_m_s);
     report.hopf_type = match (hopf_speed, report.cycles.first()) {

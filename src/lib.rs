@@ -26,6 +26,9 @@
 //!    one and the Pareto front of critical speed against the objective
 //!    ([`plot::heat_map_svg`] draws two-axis maps with contours).
 //!
+//! [`api`] is the front door over all of this that the command line and the Python package
+//! (`python/`, docs/python.md) both call: a study (file, TOML text or JSON object) in, reports
+//! and the bytes of their files out, with cancellation hooks for long analyses.
 //! The command line ([`cli`]) is a thin layer over these steps; the user guide, `docs/README.md`,
 //! describes the study files, commands and output files.
 //!
@@ -46,6 +49,7 @@
 //! ```
 
 pub mod analysis;
+pub mod api;
 pub mod bifurcation;
 pub mod cli;
 pub mod conicity;

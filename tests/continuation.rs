@@ -42,6 +42,7 @@ fn continuation<'a>(
         params,
         amplitude: &radius,
         progress: None,
+        cancel: None,
     }
 }
 
@@ -149,4 +150,26 @@ fn results_converge_as_tolerances_tighten() {
     }
     assert!(errors[2] <= errors[0], "{errors:?}");
     assert!(errors[2] < 1e-8, "{errors:?}");
+}
+
+#[test]
+fn cancellation_hook_stops_after_the_points_it_allowed() {
+    // The hook is asked before each step: allowing 5 asks gives exactly 5 points, the
+    // same 5 an uncancelled run computes first, and the stop reason says why.
+    let field = HopfNormalForm {
+        omega: 2.0,
+        a: -1.0,
+        b: 0.0,
+    };
+    let asked = std::sync::atomic::AtomicUsize::new(0);
+    let cancel = || asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= 5;
+    let mut c = continuation(&field, (-1.0, 1.0), 0.9, true);
+    let (start, dir) = from_hopf(&field);
+    let full = c.run(start, dir.clone());
+    c.cancel = Some(&cancel);
+    let cut = c.run(start, dir);
+    assert_eq!(cut.stop, BranchStop::Cancelled);
+    assert_eq!(cut.points.len(), 5);
+    assert!(full.points.len() > 5, "{:?}", full.stop);
+    assert_eq!(cut.points[..], full.points[..5]);
 }

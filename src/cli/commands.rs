@@ -1,48 +1,36 @@
-//! The commands: load, compute, write, print.
+//! The commands: load, compute (through [`crate::api`]), write, print.
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{anyhow, Context};
-
 use super::console::{results, status, statusln};
 use super::{table, Cli, Command, Failure};
-use crate::analysis::{self, GeometryReport, LinearReport};
-use crate::bifurcation::BifurcationReport;
-use crate::figures;
-use crate::model::Vehicle;
+use crate::analysis::{GeometryReport, LinearReport};
+use crate::api::{self, files, Prepared, SimulateRequest, Source};
+pub(super) use crate::api::{compute, user};
+use crate::bifurcation::{BifurcationReport, Hooks};
 use crate::output;
-use crate::study::units::{parse_quantity, Dimension};
-use crate::study::{self, Plan};
-
-pub(super) fn user<E: Into<anyhow::Error>>(e: E) -> Failure {
-    Failure::User(e.into())
-}
-
-pub(super) fn compute<E: Into<anyhow::Error>>(e: E) -> Failure {
-    Failure::Compute(e.into())
-}
+use crate::study::units::Dimension;
+use crate::study::Plan;
 
 /// Runs the parsed command.
 pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
     match &cli.command {
         Command::Run { study } => run(&cli.out, study.as_deref()),
         Command::Linear { study, json } => {
-            let plan = load(study)?;
-            let model = build(&plan)?;
-            let report = linear(&plan, &model, &cli.out)?;
+            let p = prepare(load(study)?)?;
+            let report = linear(&p, &cli.out)?;
             if *json {
                 let text =
                     serde_json::to_string_pretty(&output::linear_json(&report)).map_err(compute)?;
                 results(&format!("{text}\n"))?;
             } else {
-                results(&table::linear(&plan, &report))?;
+                results(&table::linear(p.plan(), &report))?;
             }
             Ok(())
         }
         Command::Bifurcation { study, json } => {
-            let plan = load(study)?;
-            let model = build(&plan)?;
-            let report = bifurcation(&plan, &model, &cli.out)?;
+            let p = prepare(load(study)?)?;
+            let report = bifurcation(&p, &cli.out)?;
             if *json {
                 let text = serde_json::to_string_pretty(&output::bifurcation_json(&report))
                     .map_err(compute)?;
@@ -60,26 +48,17 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
             dt,
         } => {
             let plan = load(study)?;
-            let speeds = speed
-                .iter()
-                .map(|v| argument("--speed", v, Dimension::Speed))
-                .collect::<Result<Vec<_>, _>>()?;
-            let y0 = argument("--y0", y0, Dimension::Length)?;
-            let duration = argument("--duration", duration, Dimension::Time)?;
-            let dt = argument("--dt", dt, Dimension::Time)?;
-            if speeds.iter().any(|v| *v <= 0.0) || duration <= 0.0 || dt <= 0.0 || dt > duration {
-                return Err(user(anyhow!(
-                    "speeds and --duration must be positive and 0 < --dt <= --duration"
-                )));
-            }
-            if duration / dt > 5e6 {
-                return Err(user(anyhow!(
-                    "--duration / --dt = {:.0} samples per speed; at most 5e6",
-                    duration / dt
-                )));
-            }
-            let model = build(&plan)?;
-            simulate(&plan, &model, &cli.out, &speeds, y0, duration, dt)
+            let req = SimulateRequest {
+                speeds: speed
+                    .iter()
+                    .map(|v| argument("--speed", v, Dimension::Speed))
+                    .collect::<Result<Vec<_>, _>>()?,
+                y0: argument("--y0", y0, Dimension::Length)?,
+                duration: argument("--duration", duration, Dimension::Time)?,
+                dt: argument("--dt", dt, Dimension::Time)?,
+            };
+            req.validate()?;
+            simulate(&prepare(plan)?, &cli.out, &req)
         }
         Command::Ramp(args) => super::ramp::run(args, &cli.out),
         Command::Conicity(args) => super::conicity::run(args, &cli.out),
@@ -87,19 +66,34 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
         Command::Merge(args) => super::sweep::merge(args, &cli.out),
         Command::Trade(args) => super::trade::run(args, &cli.out),
         Command::Geometry { study } => {
-            let plan = load(study)?;
-            let model = build(&plan)?;
-            let g = geometry(&plan, &model, &cli.out)?;
+            let p = prepare(load(study)?)?;
+            let g = geometry(&p, &cli.out)?;
             results(&table::geometry(&g))?;
             Ok(())
         }
         Command::Check { study } => {
-            let plan = load(study)?;
-            let sections = super::trade::check_sections(study)?;
-            let model = build(&plan)?;
+            let checked = api::check(&Source::file(study)?)?;
+            let mut sections = String::new();
+            if let Some(s) = &checked.sweep {
+                let keys: Vec<String> = s
+                    .spec
+                    .axes
+                    .iter()
+                    .map(|a| format!("{} ({} values)", a.key, a.values.len()))
+                    .collect();
+                sections += &format!(
+                    "[sweep] valid: {} points over {}\n",
+                    s.spec.len(),
+                    keys.join(" x ")
+                );
+            }
+            if checked.sections.iter().any(|(k, _)| k == "trade") {
+                sections += "[trade] valid\n";
+            }
+            let model = build(&checked.plan)?;
             results(&format!(
                 "{}{}{sections}",
-                table::plan(&plan),
+                table::plan(&checked.plan),
                 table::vehicle(&model)
             ))?;
             Ok(())
@@ -108,58 +102,44 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
 }
 
 pub(super) fn load(path: &Path) -> Result<Plan, Failure> {
-    study::load(path).map_err(user)
+    Source::file(path)?.plan()
 }
 
-pub(super) fn build(plan: &Plan) -> Result<Vehicle, Failure> {
+pub(super) fn prepare(plan: Plan) -> Result<Prepared, Failure> {
+    Prepared::new(plan)
+}
+
+/// The model itself, for the commands Python does not offer (ramp) and `check`'s listing of
+/// the vehicle's bodies and elements.
+pub(super) fn build(plan: &Plan) -> Result<crate::model::Vehicle, Failure> {
+    use anyhow::Context as _;
     plan.model()
         .with_context(|| format!("building the contact geometry of study '{}'", plan.name))
         .map_err(compute)
 }
 
 pub(super) fn out_dir(root: &Path, plan: &Plan) -> Result<PathBuf, Failure> {
-    output::study_dir(root, &plan.name)
-        .with_context(|| format!("creating {}", root.join(&plan.name).display()))
-        .map_err(compute)
+    files::folder(root, &plan.name)
+}
+
+/// Writes the files into `dir`, saying so on stderr.
+pub(super) fn write_all(dir: &Path, f: &[files::File]) -> Result<(), Failure> {
+    files::write(dir, f, &mut |p| statusln!("wrote {}", p.display()))
 }
 
 pub(super) fn write(dir: &Path, file: &str, bytes: &[u8]) -> Result<(), Failure> {
-    let path = output::write(dir, file, bytes)
-        .with_context(|| format!("writing {}", dir.join(file).display()))
-        .map_err(compute)?;
-    statusln!("wrote {}", path.display());
-    Ok(())
+    write_all(dir, &[(file.to_string(), bytes.to_vec())])
 }
 
-pub(super) fn linear(plan: &Plan, model: &Vehicle, root: &Path) -> Result<LinearReport, Failure> {
-    let report = analysis::linear(plan, model)
-        .context("linear stability analysis")
-        .map_err(compute)?;
-    let dir = out_dir(root, plan)?;
-    let json = serde_json::to_string_pretty(&output::linear_json(&report)).map_err(compute)?;
-    write(&dir, "linear.json", json.as_bytes())?;
-    write(
-        &dir,
-        "spectrum.csv",
-        output::spectrum_csv(&report).as_bytes(),
-    )?;
-    for (file, svg) in figures::linear(&report).map_err(|e| compute(anyhow!(e)))? {
-        write(&dir, &file, svg.as_bytes())?;
-    }
+pub(super) fn linear(p: &Prepared, root: &Path) -> Result<LinearReport, Failure> {
+    let report = api::linear(p)?;
+    write_all(&out_dir(root, p.plan())?, &files::linear(&report)?)?;
     Ok(report)
 }
 
-fn bifurcation(plan: &Plan, model: &Vehicle, root: &Path) -> Result<BifurcationReport, Failure> {
-    bifurcation_with(plan, model, root, &plan.bifurcation_options())
-}
-
-/// The bifurcation diagram with the given options (the study's, or the first run's).
-pub(super) fn bifurcation_with(
-    plan: &Plan,
-    model: &Vehicle,
-    root: &Path,
-    opts: &crate::bifurcation::BifurcationOptions,
-) -> Result<BifurcationReport, Failure> {
+pub(super) fn bifurcation(p: &Prepared, root: &Path) -> Result<BifurcationReport, Failure> {
+    let plan = p.plan();
+    let opts = plan.bifurcation_options();
     statusln!(
         "continuing the hunting cycles of '{}' over [{}, {}] m/s (up to {} cycles, amplitude {} mm)",
         plan.name,
@@ -183,9 +163,11 @@ pub(super) fn bifurcation_with(
             );
         }
     };
-    let report =
-        crate::bifurcation::analyse_with_progress(&plan.name, model, opts, Some(&progress))
-            .map_err(|e| compute(anyhow!(e)))?;
+    let hooks = Hooks {
+        progress: Some(&progress),
+        cancel: None,
+    };
+    let report = api::bifurcation(p, hooks)?;
     let clear = if tty { "\r" } else { "" };
     statusln!(
         "{clear}  {} cycles in {:.2} s{}",
@@ -193,101 +175,53 @@ pub(super) fn bifurcation_with(
         started.elapsed().as_secs_f64(),
         if tty { " ".repeat(40) } else { String::new() }
     );
-    let dir = out_dir(root, plan)?;
-    let json = serde_json::to_string_pretty(&output::bifurcation_json(&report)).map_err(compute)?;
-    write(&dir, "bifurcation.json", json.as_bytes())?;
-    write(&dir, "branch.csv", output::branch_csv(&report).as_bytes())?;
-    let svg = figures::bifurcation(&report).map_err(|e| compute(anyhow!(e)))?;
-    write(&dir, "bifurcation.svg", svg.as_bytes())?;
+    write_all(&out_dir(root, plan)?, &files::bifurcation(&report)?)?;
     Ok(report)
 }
 
 /// A command-line quantity: a plain number (SI) or a number with a unit.
 pub(super) fn argument(flag: &str, text: &str, dim: Dimension) -> Result<f64, Failure> {
-    if let Ok(v) = text.trim().parse::<f64>() {
-        if v.is_finite() {
-            return Ok(v);
-        }
-    }
-    parse_quantity(text, dim).map_err(|p| {
-        user(anyhow!(
-            "{flag} {text:?}: {p}; expected a {dim} in SI ({}) or with one of the units {}",
-            dim.si_unit(),
-            dim.accepted()
-        ))
-    })
+    api::quantity(flag, text, dim)
 }
 
-fn simulate(
-    plan: &Plan,
-    model: &Vehicle,
-    root: &Path,
-    speeds: &[f64],
-    y0: f64,
-    duration: f64,
-    dt: f64,
-) -> Result<(), Failure> {
-    let ode = crate::system::ode::OdeOptions {
-        tol: crate::system::ode::Tolerances::new(1e-9, 1e-12).map_err(compute)?,
-        ..Default::default()
-    };
-    let mut runs = Vec::new();
-    for &v in speeds {
+fn simulate(p: &Prepared, root: &Path, req: &SimulateRequest) -> Result<(), Failure> {
+    let name = &p.plan().name;
+    let before = |v: f64| {
         statusln!(
-            "simulating '{}' at {v} m/s for {duration} s from y(0) = {} mm",
-            plan.name,
-            y0 * 1e3
-        );
-        let h = crate::simulate::simulate(
-            model,
-            v,
-            &crate::simulate::lateral_start(model, y0),
-            duration,
-            dt,
-            &ode,
+            "simulating '{name}' at {v} m/s for {} s from y(0) = {} mm",
+            req.duration,
+            req.y0 * 1e3
         )
-        .with_context(|| format!("time simulation at {v} m/s"))
-        .map_err(compute)?;
-        runs.push(h);
-    }
-    let dir = out_dir(root, plan)?;
-    write(&dir, "simulate.csv", output::simulate_csv(&runs).as_bytes())?;
-    let svg = figures::simulate(&plan.name, &runs).map_err(|e| compute(anyhow!(e)))?;
-    write(&dir, "simulate.svg", svg.as_bytes())?;
-    results(&table::simulate(&plan.name, &runs))?;
+    };
+    let runs = api::simulate(p, req, &before, None)?;
+    write_all(&out_dir(root, p.plan())?, &files::simulate(name, &runs)?)?;
+    results(&table::simulate(name, &runs))?;
     Ok(())
 }
 
-pub(super) fn geometry(
-    plan: &Plan,
-    model: &Vehicle,
-    root: &Path,
-) -> Result<GeometryReport, Failure> {
-    let g = analysis::geometry(plan, model);
-    let dir = out_dir(root, plan)?;
-    write(&dir, "geometry.csv", output::geometry_csv(&g).as_bytes())?;
-    let svg = figures::geometry(&g).map_err(|e| compute(anyhow!(e)))?;
-    write(&dir, "geometry.svg", svg.as_bytes())?;
+pub(super) fn geometry(p: &Prepared, root: &Path) -> Result<GeometryReport, Failure> {
+    let g = api::geometry(p);
+    write_all(&out_dir(root, p.plan())?, &files::geometry(&g)?)?;
     Ok(g)
 }
 
 fn run(root: &Path, study: Option<&Path>) -> Result<(), Failure> {
     match study {
-        Some(p) => run_study(root, &load(p)?).map(|_| ()),
+        Some(p) => run_study(root, load(p)?).map(|_| ()),
         None => super::first_run::run(root),
     }
 }
 
 /// `critspeed run STUDY`: geometry, linear stability and, when the study has a
 /// `[bifurcation]` section, the diagram; the tables on stdout.
-pub(super) fn run_study(root: &Path, plan: &Plan) -> Result<LinearReport, Failure> {
-    let model = build(plan)?;
-    let g = geometry(plan, &model, root)?;
+pub(super) fn run_study(root: &Path, plan: Plan) -> Result<LinearReport, Failure> {
+    let p = prepare(plan)?;
+    let g = geometry(&p, root)?;
     results(&table::geometry(&g))?;
-    let report = linear(plan, &model, root)?;
-    results(&table::linear(plan, &report))?;
-    if plan.bifurcation.is_some() {
-        let b = bifurcation(plan, &model, root)?;
+    let report = linear(&p, root)?;
+    results(&table::linear(p.plan(), &report))?;
+    if p.plan().bifurcation.is_some() {
+        let b = bifurcation(&p, root)?;
         results(&table::bifurcation(&b))?;
     }
     Ok(report)

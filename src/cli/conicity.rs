@@ -3,13 +3,12 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::anyhow;
-use serde_json::json;
 
-use super::commands::{argument, build, compute, load, user, write};
+use super::commands::{argument, compute, load, prepare, user, write_all};
 use super::console::{self, statusln};
 use super::Failure;
-use crate::conicity::{Conicity, DeltaR};
-use crate::figures;
+use crate::api::{self, files};
+use crate::conicity::DeltaR;
 use crate::study::units::Dimension;
 
 /// The conicity command's arguments, as typed.
@@ -40,54 +39,28 @@ pub fn run(a: &ConicityArgs, root: &Path) -> Result<(), Failure> {
             (stem, DeltaR::read(file).map_err(user)?)
         }
         (Some(study), None) => {
-            let plan = load(study)?;
-            let model = build(&plan)?;
-            let pts = model.contact.table.rolling_radius_difference();
-            (
-                plan.name.clone(),
-                DeltaR::new(pts, &plan.name).map_err(compute)?,
-            )
+            let p = prepare(load(study)?)?;
+            (p.plan().name.clone(), api::delta_r(&p)?)
         }
         (None, None) => return Err(user(anyhow!("give a STUDY or --delta-r FILE"))),
     };
     let amplitudes: Vec<f64> = if a.amplitudes.is_empty() {
-        (1..=20).map(|k| k as f64 * 0.5e-3).collect()
+        api::default_amplitudes()
     } else {
         a.amplitudes
             .iter()
             .map(|s| argument("--amplitudes", s, Dimension::Length))
             .collect::<Result<_, _>>()?
     };
-    let mut results: Vec<Conicity> = Vec::new();
-    for &amp in &amplitudes {
-        match table.equivalent_conicity(amp) {
-            Ok(c) => results.push(c),
-            // explicit amplitudes must all work; the default list stops at the table's end
-            Err(e) if !a.amplitudes.is_empty() => return Err(user(anyhow!(e))),
-            Err(e) => statusln!("  {:.1} mm: {e}", amp * 1e3),
-        }
-    }
-    if results.is_empty() {
-        return Err(user(anyhow!("no amplitude fits the Δr table")));
+    let (results, skipped) = api::conicity(&table, &amplitudes, !a.amplitudes.is_empty())?;
+    for s in skipped {
+        statusln!("  {s}");
     }
     let dir = root.join(&name);
     std::fs::create_dir_all(&dir).map_err(compute)?;
-    let mut csv = String::from("amplitude_m,equivalent_conicity,turning_low_m,turning_high_m\n");
-    for c in &results {
-        csv.push_str(&format!(
-            "{},{},{},{}\n",
-            c.amplitude_m, c.conicity, c.turning_m.0, c.turning_m.1
-        ));
-    }
-    write(&dir, "conicity.csv", csv.as_bytes())?;
-    let svg = figures::conicity(&name, &results).map_err(|e| compute(anyhow!(e)))?;
-    write(&dir, "conicity.svg", svg.as_bytes())?;
+    write_all(&dir, &files::conicity(&name, &results)?)?;
     if a.json {
-        let j = json!({
-            "amplitude_m": results.iter().map(|c| c.amplitude_m).collect::<Vec<_>>(),
-            "equivalent_conicity": results.iter().map(|c| c.conicity).collect::<Vec<_>>(),
-        });
-        let text = serde_json::to_string_pretty(&j).map_err(compute)?;
+        let text = serde_json::to_string_pretty(&api::conicity_json(&results)).map_err(compute)?;
         console::results(&format!("{text}\n"))?;
     } else {
         let mut text = format!(

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use anyhow::anyhow;
 
-use super::commands::{bifurcation_with, build, compute, linear, run_study};
+use super::commands::{bifurcation, build, compute, linear, prepare, run_study};
 use super::console::{results, statusln};
 use super::Failure;
 use crate::bifurcation::BifurcationReport;
@@ -37,17 +37,18 @@ pub fn run(root: &Path) -> Result<(), Failure> {
          (studies/seed.toml) and the same wheelset made to hunt (studies/seed-hunting.toml)"
     );
     let seed = parse(study::DEFAULT_STUDY, "embedded seed study")?;
-    run_study(root, &seed)?;
+    run_study(root, seed.clone())?;
     let (seed_kalker, seed_law) = wide_search(&seed)?;
 
     let hunting = parse(study::HUNTING_STUDY, "embedded seed-hunting study")?;
-    let model = build(&hunting)?;
-    let hunting_linear = linear(&hunting, &model, root)?;
-    let opts = crate::bifurcation::BifurcationOptions {
+    let mut shown = hunting.clone();
+    shown.bifurcation = Some(crate::bifurcation::BifurcationOptions {
         max_amplitude: FIRST_RUN_MAX_AMPLITUDE_M,
         ..hunting.bifurcation_options()
-    };
-    let b = bifurcation_with(&hunting, &model, root, &opts)?;
+    });
+    let p = prepare(shown)?;
+    let hunting_linear = linear(&p, root)?;
+    let b = bifurcation(&p, root)?;
     results(&super::table::bifurcation(&b))?;
     let text = summary(
         &seed,

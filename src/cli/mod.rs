@@ -104,14 +104,7 @@ pub enum Command {
     },
 }
 
-/// Why a command failed, and so which exit code it gets.
-#[derive(Debug)]
-pub enum Failure {
-    /// bad input: exit code 2
-    User(anyhow::Error),
-    /// a computation or output failure: exit code 1
-    Compute(anyhow::Error),
-}
+pub use crate::api::Failure;
 
 /// Parses the arguments, runs the command and maps the outcome to an exit code.
 pub fn main() -> ExitCode {

@@ -6,10 +6,9 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use anyhow::anyhow;
 
-use super::commands::{compute, user, write};
+use super::commands::{compute, user};
 use super::console::{results, status, statusln};
 use super::Failure;
-use crate::figures;
 use crate::output;
 use crate::sweep::{
     self, Computed, Outcome, PointRecord, Progress, Shard, SweepError, SweepOptions, SweepStudy,
@@ -51,11 +50,7 @@ pub struct MergeArgs {
 }
 
 fn failure(e: SweepError) -> Failure {
-    if e.is_user_error() {
-        user(e)
-    } else {
-        compute(e)
-    }
+    crate::api::sweep_failure(e)
 }
 
 fn clock(d: f64) -> String {
@@ -162,7 +157,7 @@ pub(super) fn compute_points(
         shard,
         records: Some(records.clone()),
     };
-    let res = sweep::run(&study, &opts, Some(&report)).map_err(failure)?;
+    let res = crate::api::sweep(&study, &opts, Some(&report), None)?;
     if tty && res.computed > 0 {
         statusln!();
     }
@@ -220,17 +215,7 @@ fn check_recorded_count(shard: Shard, dir: &Path) -> Result<(), Failure> {
 
 /// Writes sweep.csv and the figures.
 fn finish(study: &SweepStudy, dir: &Path, rows: &[PointRecord]) -> Result<(), Failure> {
-    write(
-        dir,
-        "sweep.csv",
-        sweep::sweep_csv(&study.spec.axes, rows).as_bytes(),
-    )?;
-    let figs =
-        figures::sweep(&study.base.name, &study.spec, rows).map_err(|e| compute(anyhow!(e)))?;
-    for (file, svg) in figs {
-        write(dir, &file, svg.as_bytes())?;
-    }
-    Ok(())
+    super::commands::write_all(dir, &crate::api::files::sweep(study, rows)?)
 }
 
 /// One result over the points: the range where found, the count above range, the rest.

@@ -84,40 +84,6 @@ pub fn run(a: &TradeArgs, root: &Path) -> Result<(), Failure> {
     Ok(())
 }
 
-/// `critspeed check`: validates the study's `[sweep]` (every axis value gives a valid study)
-/// and `[trade]` sections too, and says what they hold.
-pub(super) fn check_sections(path: &Path) -> Result<String, Failure> {
-    let (text, file) = study_file(path)?;
-    let mut out = String::new();
-    if file.sweep.is_some() {
-        let s =
-            crate::sweep::SweepStudy::parse_in(&text, &path.display().to_string(), path.parent())
-                .map_err(|e| {
-                if e.is_user_error() {
-                    user(e)
-                } else {
-                    super::commands::compute(e)
-                }
-            })?;
-        let keys: Vec<String> = s
-            .spec
-            .axes
-            .iter()
-            .map(|a| format!("{} ({} values)", a.key, a.values.len()))
-            .collect();
-        out += &format!(
-            "[sweep] valid: {} points over {}\n",
-            s.spec.len(),
-            keys.join(" x ")
-        );
-    }
-    if let Some(t) = &file.trade {
-        trade::trade_plan(t).map_err(user)?;
-        out += "[trade] valid\n";
-    }
-    Ok(out)
-}
-
 /// The study file's text and its schema (the raw `[sweep]` and `[trade]` tables with it).
 fn study_file(path: &Path) -> Result<(String, StudyFile), Failure> {
     let text = std::fs::read_to_string(path)

@@ -74,6 +74,8 @@ pub enum BranchStop {
     MaxPoints,
     /// the step fell below `ds_min` without a converged corrector
     StepTooSmall { param: f64, newton: NewtonStop },
+    /// the caller's cancellation hook asked to stop (checked before each step)
+    Cancelled,
 }
 
 /// One accepted orbit of the branch.
@@ -178,6 +180,9 @@ pub struct Continuation<'a, const N: usize, F: VectorField<N>> {
     pub amplitude: &'a (dyn Fn(&OrbitPoint<N>) -> f64 + Sync),
     /// called with each accepted orbit (progress reporting); `None` for silence
     pub progress: Option<&'a (dyn Fn(&BranchPoint<N>) + Sync)>,
+    /// asked before each step whether to stop (`true`: the branch ends with
+    /// [`BranchStop::Cancelled`], keeping the points so far); `None`: never
+    pub cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
 }
 
 impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
@@ -281,6 +286,9 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         let mut special = Vec::new();
         let mut last_failure = NewtonStop::Converged;
         let stop = loop {
+            if self.cancel.is_some_and(|c| c()) {
+                break BranchStop::Cancelled;
+            }
             if points.len() >= p.max_points {
                 break BranchStop::MaxPoints;
             }

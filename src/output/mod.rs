@@ -3,6 +3,8 @@
 //! Numbers are written with Rust's shortest round-trip formatting, so a program reading the
 //! CSV or JSON gets exactly the `f64` that was computed. Every CSV header carries its unit.
 
+mod plan;
+
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -10,6 +12,8 @@ use serde_json::{json, Value};
 
 use crate::analysis::{GeometryReport, LinearReport};
 use crate::stability::{CriticalSpeeds, Crossing, Spectrum};
+
+pub use plan::plan_json;
 
 /// What every linear output calls the speeds it reports.
 pub const LINEAR_KIND: &str = "linear critical speed: Hopf bifurcation of the centred motion \

@@ -14,6 +14,7 @@ pub mod study;
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -72,6 +73,8 @@ pub enum SweepError {
     },
     #[error("building the thread pool: {0}")]
     Threads(String),
+    #[error("cancelled with {done} of {total} points finished (the records file keeps them)")]
+    Cancelled { done: usize, total: usize },
 }
 
 impl SweepError {
@@ -79,7 +82,10 @@ impl SweepError {
     pub fn is_user_error(&self) -> bool {
         !matches!(
             self,
-            SweepError::Io { .. } | SweepError::Model(_) | SweepError::Threads(_)
+            SweepError::Io { .. }
+                | SweepError::Model(_)
+                | SweepError::Threads(_)
+                | SweepError::Cancelled { .. }
         )
     }
 }
@@ -180,6 +186,18 @@ pub fn run(
     opts: &SweepOptions,
     progress: Option<&(dyn Fn(&Progress) + Sync)>,
 ) -> Result<SweepResults, SweepError> {
+    run_cancellable(study, opts, progress, None)
+}
+
+/// [`run`] with a cancellation hook, asked before each point: once it returns `true` no
+/// further point starts, the points already finished stay in the records file (a later run
+/// resumes from them) and the run returns [`SweepError::Cancelled`].
+pub fn run_cancellable(
+    study: &SweepStudy,
+    opts: &SweepOptions,
+    progress: Option<&(dyn Fn(&Progress) + Sync)>,
+    cancel: Option<&(dyn Fn() -> bool + Sync)>,
+) -> Result<SweepResults, SweepError> {
     let (file, mut have, todo) = resume(study, opts)?;
     let resumed = have.len();
     let pool = rayon::ThreadPoolBuilder::new()
@@ -195,8 +213,13 @@ pub fn run(
         err: None,
     });
     let spares = Spares::default();
+    let cancelled = AtomicBool::new(false);
     pool.install(|| {
         todo.par_iter().for_each(|&id| {
+            if cancelled.load(Ordering::Relaxed) || cancel.is_some_and(|c| c()) {
+                cancelled.store(true, Ordering::Relaxed);
+                return;
+            }
             let rec = point::compute(study, id, &spares);
             let mut g = sink.lock().unwrap_or_else(|e| e.into_inner());
             g.add(rec);
@@ -220,6 +243,12 @@ pub fn run(
         });
     }
     let computed = sink.rows.len();
+    if cancelled.into_inner() {
+        return Err(SweepError::Cancelled {
+            done: have.len() + computed,
+            total: study.spec.len(),
+        });
+    }
     have.extend(sink.rows);
     have.sort_by_key(|r| r.id);
     Ok(SweepResults {

@@ -1,0 +1,257 @@
+"""critspeed: the critical hunting speed of a railway wheelset, from Python.
+
+A thin layer over the Rust library the ``critspeed`` command line is built on: every function
+calls the same library function as the matching command, and returns what that command prints
+with ``--json`` (a dict) or the columns of the CSV file it writes (a dict of numpy arrays).
+
+A *study* is any of
+
+* a path to a study file (``str`` or ``os.PathLike``); relative paths inside it (geometry
+  tables, profiles) are taken from the file's folder;
+* the TOML text of a study (a ``str`` containing a newline or ``=``); relative paths inside it
+  are taken from the current directory;
+* a ``dict`` with the same structure as the file (sections are nested dicts); values are numbers
+  in SI units or strings with a unit (``"850 N/mm"``), exactly as in a file.
+
+Nothing is written to disk unless ``out=`` is given: then the files the command line writes go
+to ``out/<study name>/`` as with ``critspeed --out OUT``.
+
+Errors: a bad study or argument raises :class:`StudyError` (a ``ValueError``) whose message is
+the command line's (it names the key, the value and the rule); a numerical failure raises
+:class:`ComputationError` (a ``RuntimeError``).
+
+Threads and the GIL: every call releases the GIL while it computes. The long ones
+(:func:`bifurcation`, :func:`sweep`, :func:`simulate`) run on a worker thread and check for
+Ctrl-C every 50 ms; on Ctrl-C the computation stops at its next step (continuation step, sweep
+point or simulated speed) and ``KeyboardInterrupt`` is raised. A sweep interrupted with
+``out=`` keeps its finished points and resumes from them when called again.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _native
+from ._native import ComputationError, StudyError
+
+__version__: str = _native.version()
+
+__all__ = [
+    "__version__",
+    "StudyError",
+    "ComputationError",
+    "check",
+    "linear",
+    "bifurcation",
+    "simulate",
+    "sweep",
+    "conicity",
+    "geometry",
+]
+
+Study = Union[str, "os.PathLike[str]", Mapping[str, Any]]
+"""A study: a file path, TOML text, or a dict with the file's structure."""
+
+Quantity = Union[float, int, str]
+"""A number in SI units, or a string with a unit (``"5 mm"``, ``"200 km/h"``)."""
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+def _study(study: Study) -> Tuple[str, Any]:
+    """The study's kind ("path", "text" or "dict") and value, for the native module."""
+    if isinstance(study, Mapping):
+        return "dict", dict(study)
+    if isinstance(study, os.PathLike):
+        return "path", os.fspath(study)
+    if isinstance(study, str):
+        if "\n" in study or "=" in study:
+            return "text", study
+        return "path", study
+    raise TypeError(
+        f"study must be a path, TOML text or a dict, not {type(study).__name__}"
+    )
+
+
+def _quantity(name: str, value: Quantity, dim: str) -> float:
+    """A number (SI) or a string with a unit of ``dim``, in SI."""
+    if isinstance(value, str):
+        return _native.quantity(name, value, dim)
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
+        raise StudyError(
+            f"{name} = {value!r}: expected a number in SI or a string with a unit"
+        )
+    return float(value)
+
+
+def _out(out: Optional[PathLike]) -> Optional[str]:
+    return None if out is None else os.fspath(out)
+
+
+def _columns(cols: Sequence[Tuple[str, str, Any]]) -> Dict[str, np.ndarray]:
+    """The native module's CSV columns as numpy arrays, in the CSV's column order."""
+    result: Dict[str, np.ndarray] = {}
+    for name, kind, data in cols:
+        if kind == "f64":
+            result[name] = np.frombuffer(data, dtype=np.float64)
+        elif kind == "bool":
+            result[name] = np.frombuffer(data, dtype=np.bool_)
+        elif kind == "optbool":
+            result[name] = np.array(data, dtype=object)
+        else:
+            result[name] = np.array(data, dtype=str)
+    return result
+
+
+def check(study: Study) -> Dict[str, Any]:
+    """Validate a study and return the resolved plan in SI (what ``critspeed check`` prints).
+
+    The dict has the study file's sections and keys (``"wheelset"``, ``"suspension"``,
+    ``"contact"``, ``"flange"`` when present, ``"linear"``, ``"bifurcation"`` when present),
+    every quantity a number in SI, every default filled in. For the ``cone`` and
+    ``cone-on-arc`` geometries it is itself a valid study dict (``check(check(s)) ==
+    check(s)``). The ``[sweep]`` and ``[trade]`` sections, when present, are validated (every
+    sweep value must give a valid study) and returned as written.
+
+    Raises :class:`StudyError` naming the key, the value and the rule.
+    """
+    kind, value = _study(study)
+    return _native.check(kind, value)
+
+
+def linear(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, Any]:
+    """Linear stability: the object ``critspeed linear STUDY --json`` prints, as a dict.
+
+    Keys: ``"study"``, ``"kind"``, ``"speed_range_m_s"``, ``"creep_law"``,
+    ``"critical_speeds"`` (Kalker crossings: a list of dicts with ``"speed_m_s"``,
+    ``"speed_km_h"``, ``"frequency_hz"``, ``"wavelength_m"``, ``"direction"``
+    (``"onset"``/``"recovery"``), ``"bracket_m_s"``), ``"creep_law_hopf_speeds"`` (the same
+    for the study's creep law), ``"linear_critical_speed_m_s"`` (the first Kalker onset, or
+    ``None``), ``"creep_law_hopf_speed_m_s"``, ``"centre_conicity"``,
+    ``"klingel_wavelength_m"``, ``"kalker"`` and ``"creep_law_details"``.
+
+    With ``out``, writes ``linear.json``, ``spectrum.csv`` and the figures to
+    ``out/<name>/``.
+    """
+    kind, value = _study(study)
+    return _native.linear(kind, value, _out(out))
+
+
+def bifurcation(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, Any]:
+    """The branch of hunting limit cycles: ``critspeed bifurcation STUDY --json``'s object.
+
+    Keys as the command prints them (``"nonlinear_critical_speed_m_s"``, ``"hopf_speed_m_s"``,
+    ``"hopf_type"``, ``"special_points"``, ``"stop_reason"``, ``"cycles"``, ...), plus
+    ``"branch"``: ``{column of branch.csv: numpy array}`` with one entry per cycle
+    (``speed_m_s``, ``amplitude_y_m``, ``amplitude_psi_rad``, ``period_s``,
+    ``frequency_hz``, ``stable`` (bool), ``max_multiplier_abs``, ... ``mu4_im``), the very
+    numbers of the CSV.
+
+    Studies without a ``[bifurcation]`` section use its defaults. Releases the GIL; Ctrl-C
+    stops it between continuation steps (``KeyboardInterrupt``). With ``out``, writes
+    ``bifurcation.json``, ``branch.csv`` and ``bifurcation.svg``.
+    """
+    kind, value = _study(study)
+    report, cols = _native.bifurcation(kind, value, _out(out))
+    report["branch"] = _columns(cols)
+    return report
+
+
+def simulate(
+    study: Study,
+    speeds: Union[Quantity, Sequence[Quantity]],
+    *,
+    y0: Quantity = "5 mm",
+    duration: Quantity = "30 s",
+    dt: Quantity = "2 ms",
+    out: Optional[PathLike] = None,
+) -> Dict[str, np.ndarray]:
+    """Time histories at constant speeds from y(0) = ``y0``: ``{column of simulate.csv: array}``.
+
+    Columns ``speed_m_s``, ``time_s``, ``y_m``, ``psi_rad``, ``ydot_m_s``, ``psidot_rad_s``;
+    the runs follow one another (select one with ``r["speed_m_s"] == v``). Each argument is a
+    number in SI or a string with a unit (``speeds=["30 m/s", "200 km/h"]``). The rules of
+    ``critspeed simulate`` apply (positive speeds and duration, 0 < dt <= duration, at most
+    5e6 samples per speed). Ctrl-C stops it between speeds.
+    """
+    if isinstance(speeds, (str, int, float, np.number)):
+        speeds = [speeds]
+    v = [_quantity("speeds", s, "speed") for s in speeds]
+    kind, value = _study(study)
+    cols = _native.simulate(
+        kind,
+        value,
+        v,
+        _quantity("y0", y0, "length"),
+        _quantity("duration", duration, "time"),
+        _quantity("dt", dt, "time"),
+        _out(out),
+    )
+    return _columns(cols)
+
+
+def sweep(
+    study: Study, *, threads: Optional[int] = None, out: Optional[PathLike] = None
+) -> Dict[str, np.ndarray]:
+    """The study's ``[sweep]``: ``{column of sweep.csv: numpy array}``, one entry per point.
+
+    Columns ``point_id``, one per axis (named with its unit, e.g.
+    ``suspension.lateral_stiffness_n_per_m``), ``kalker_critical_speed_m_s``, ``hopf_speed_m_s``,
+    ``nonlinear_critical_speed_m_s`` (NaN where not computed or not found), ``status``
+    (strings), ``kalker_frequency_hz``, ``hopf_frequency_hz``, ``nonlinear_located``,
+    ``stable_up_to_m_s``. A column's type follows its cells: numbers (empty = NaN), booleans,
+    optional booleans (object array with ``None``) or strings.
+
+    ``threads`` sets the size of the sweep's own thread pool (default: all cores); the results
+    do not depend on it. With ``out``, the sweep is resumable exactly as ``critspeed sweep``
+    (records file ``out/<name>/sweep.records.csv``) and writes ``sweep.csv`` and its figures.
+    Ctrl-C stops it between points.
+    """
+    if threads is not None and (isinstance(threads, bool) or threads < 1):
+        raise StudyError(f"threads = {threads!r}: must be at least 1")
+    kind, value = _study(study)
+    return _columns(_native.sweep(kind, value, threads, _out(out)))
+
+
+def conicity(
+    study: Optional[Study] = None,
+    *,
+    delta_r: Optional[Tuple[Sequence[float], Sequence[float]]] = None,
+    amplitudes: Optional[Sequence[Quantity]] = None,
+    out: Optional[PathLike] = None,
+) -> Dict[str, Any]:
+    """EN 15302 equivalent conicity against amplitude: ``critspeed conicity --json``'s object.
+
+    ``{"amplitude_m": [...], "equivalent_conicity": [...]}``, from the study's contact
+    geometry, or from a rolling-radius-difference table ``delta_r=(y, dr)`` (both in metres,
+    dr = r_R - r_L at each lateral displacement y). Without ``amplitudes``: 0.5 mm to 10 mm by
+    0.5 mm as far as the table reaches; given amplitudes (numbers in m or strings with a
+    unit) must all fit. With ``out``, writes ``conicity.csv`` and ``conicity.svg`` to
+    ``out/<name>/`` (``out/delta_r/`` for a table).
+    """
+    if (study is None) == (delta_r is None):
+        raise StudyError("give a study or delta_r=(y, dr), not both and not neither")
+    amps = None
+    if amplitudes is not None:
+        amps = [_quantity("amplitudes", a, "length") for a in amplitudes]
+    table = None
+    kind, value = "text", ""
+    if delta_r is not None:
+        y, dr = delta_r
+        table = ([float(v) for v in y], [float(v) for v in dr])
+    else:
+        kind, value = _study(study)
+    return _native.conicity(kind, value, amps, _out(out), table)
+
+
+def geometry(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, np.ndarray]:
+    """The contact geometry table: ``{column of geometry.csv: numpy array}``.
+
+    Rolling radii, contact angles, roll, Hertz patch and creep coefficients against the
+    lateral displacement ``y_m`` (the table ``critspeed geometry`` writes).
+    """
+    kind, value = _study(study)
+    return _columns(_native.geometry(kind, value, _out(out)))

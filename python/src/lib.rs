@@ -1,0 +1,453 @@
+//! `critspeed._native`: the Python extension module, thin over `critspeed::api` (the functions
+//! the command line calls). It converts arguments and results and manages the GIL and Ctrl-C;
+//! it computes nothing itself. The public Python API, with its docstrings, is
+//! `critspeed/__init__.py`.
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::Duration;
+
+use critspeed::api::{self, files, Column, Failure, Hooks, Prepared, SimulateRequest, Source};
+use critspeed::study::units::Dimension;
+use critspeed::sweep::{Shard, SweepOptions};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyByteArray, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use serde_json::Value;
+
+create_exception!(
+    critspeed,
+    StudyError,
+    PyValueError,
+    "A bad study or argument: the message names the key, the value and the rule."
+);
+create_exception!(
+    critspeed,
+    ComputationError,
+    PyRuntimeError,
+    "A numerical failure (e.g. a contact solve that does not converge), or an output failure."
+);
+
+fn raise(f: Failure) -> PyErr {
+    match f {
+        Failure::User(_) => StudyError::new_err(f.message()),
+        Failure::Compute(_) => ComputationError::new_err(f.message()),
+    }
+}
+
+/// A Python object (from a study dict) as JSON; floats keep their exact value.
+fn to_json(o: &Bound<'_, PyAny>, key: &str) -> PyResult<Value> {
+    if o.is_none() {
+        return Ok(Value::Null);
+    }
+    if let Ok(b) = o.cast::<PyBool>() {
+        return Ok(Value::Bool(b.is_true()));
+    }
+    if o.is_instance_of::<PyInt>() {
+        let i: i64 = o
+            .extract()
+            .map_err(|_| StudyError::new_err(format!("{key} = {o}: integer out of range")))?;
+        return Ok(Value::from(i));
+    }
+    if let Ok(f) = o.cast::<PyFloat>() {
+        let v = f.value();
+        return serde_json::Number::from_f64(v)
+            .map(Value::Number)
+            .ok_or_else(|| StudyError::new_err(format!("{key} = {v}: must be finite")));
+    }
+    if let Ok(s) = o.cast::<PyString>() {
+        return Ok(Value::String(s.extract::<String>()?));
+    }
+    if let Ok(d) = o.cast::<PyDict>() {
+        let mut m = serde_json::Map::new();
+        for (k, v) in d.iter() {
+            let k: String = k.extract().map_err(|_| {
+                StudyError::new_err(format!("{key}: keys must be strings, found {k:?}"))
+            })?;
+            let sub = if key.is_empty() {
+                k.clone()
+            } else {
+                format!("{key}.{k}")
+            };
+            m.insert(k, to_json(&v, &sub)?);
+        }
+        return Ok(Value::Object(m));
+    }
+    if o.is_instance_of::<PyList>() || o.is_instance_of::<PyTuple>() {
+        let mut a = Vec::new();
+        for (i, v) in o.try_iter()?.enumerate() {
+            a.push(to_json(&v?, &format!("{key}[{i}]"))?);
+        }
+        return Ok(Value::Array(a));
+    }
+    // numpy scalars and other numbers
+    if let Ok(v) = o.extract::<f64>() {
+        return to_json(&PyFloat::new(o.py(), v), key);
+    }
+    Err(StudyError::new_err(format!(
+        "{key} = {o}: a study value must be a number, a string, a boolean, a list or a dict"
+    )))
+}
+
+/// JSON as Python objects: objects become dicts, numbers keep their exact value and type.
+fn to_py<'py>(py: Python<'py>, v: &Value) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match v {
+        Value::Null => py.None().into_bound(py),
+        Value::Bool(b) => PyBool::new(py, *b).to_owned().into_any(),
+        Value::Number(n) => {
+            if let Some(i) = n.as_i64() {
+                i.into_pyobject(py)?.into_any()
+            } else if let Some(u) = n.as_u64() {
+                u.into_pyobject(py)?.into_any()
+            } else {
+                PyFloat::new(py, n.as_f64().unwrap_or(f64::NAN)).into_any()
+            }
+        }
+        Value::String(s) => PyString::new(py, s).into_any(),
+        Value::Array(a) => {
+            let items = a
+                .iter()
+                .map(|x| to_py(py, x))
+                .collect::<PyResult<Vec<_>>>()?;
+            PyList::new(py, items)?.into_any()
+        }
+        Value::Object(m) => {
+            let d = PyDict::new(py);
+            for (k, x) in m {
+                d.set_item(k, to_py(py, x)?)?;
+            }
+            d.into_any()
+        }
+    })
+}
+
+/// CSV columns as `[(name, kind, data)]`: kind "f64"/"bool" with a bytearray of native
+/// f64/u8 values (numpy reads it without a copy), "optbool"/"str" with a list.
+fn columns_py<'py>(
+    py: Python<'py>,
+    csv: &str,
+    kinds: &[(&str, api::Kind)],
+) -> PyResult<Bound<'py, PyList>> {
+    let cols = api::columns(csv, kinds).map_err(raise)?;
+    let mut out = Vec::with_capacity(cols.len());
+    for (name, col) in cols {
+        let (kind, data): (&str, Bound<'py, PyAny>) = match col {
+            Column::F64(v) => {
+                let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_ne_bytes()).collect();
+                ("f64", PyByteArray::new(py, &bytes).into_any())
+            }
+            Column::Bool(v) => {
+                let bytes: Vec<u8> = v.iter().map(|b| u8::from(*b)).collect();
+                ("bool", PyByteArray::new(py, &bytes).into_any())
+            }
+            Column::OptBool(v) => ("optbool", v.into_pyobject(py)?.into_any()),
+            Column::Text(v) => ("str", v.into_pyobject(py)?.into_any()),
+        };
+        out.push((name, kind, data));
+    }
+    PyList::new(py, out)
+}
+
+/// The study as the library's [`Source`]: `kind` is "path", "text" or "dict".
+fn source(kind: &str, value: &Bound<'_, PyAny>) -> PyResult<Source> {
+    match kind {
+        "path" => Source::file(&value.extract::<PathBuf>()?).map_err(raise),
+        "text" => Ok(Source::text(&value.extract::<String>()?, "<TOML text>")),
+        "dict" => Source::json(&to_json(value, "")?, "<dict>").map_err(raise),
+        _ => Err(PyValueError::new_err(format!(
+            "unknown study kind {kind:?}"
+        ))),
+    }
+}
+
+/// Writes the files `make` renders into `out/<name>/`, when `out` is given (rendering the
+/// figures costs time: nothing is rendered without `out`).
+fn write(
+    out: Option<&PathBuf>,
+    name: &str,
+    make: impl FnOnce() -> Result<Vec<files::File>, Failure>,
+) -> PyResult<()> {
+    if let Some(root) = out {
+        let dir = files::folder(root, name).map_err(raise)?;
+        files::write(&dir, &make().map_err(raise)?, &mut |_| {}).map_err(raise)?;
+    }
+    Ok(())
+}
+
+/// Runs `f` on a worker thread with the GIL released, while this thread checks for signals
+/// (Ctrl-C) every 50 ms. On a signal the cancellation flag is raised, the worker stops at its
+/// next check (between continuation steps, sweep points, simulated speeds) and the signal's
+/// exception (KeyboardInterrupt) is raised.
+fn interruptible<T: Send>(
+    py: Python<'_>,
+    f: impl FnOnce(&(dyn Fn() -> bool + Sync)) -> Result<T, Failure> + Send,
+) -> PyResult<T> {
+    let flag = AtomicBool::new(false);
+    let cancel = || flag.load(Ordering::Relaxed);
+    let (done, result) = py.detach(|| {
+        std::thread::scope(|scope| {
+            let (tx, rx) = mpsc::channel();
+            let worker = scope.spawn(move || {
+                let r = f(&cancel);
+                let _ = tx.send(());
+                r
+            });
+            let mut signal = None;
+            loop {
+                match rx.recv_timeout(Duration::from_millis(50)) {
+                    Err(mpsc::RecvTimeoutError::Timeout) if signal.is_none() => {
+                        if let Err(e) = Python::attach(|py| py.check_signals()) {
+                            flag.store(true, Ordering::Relaxed);
+                            signal = Some(e);
+                        }
+                    }
+                    Err(mpsc::RecvTimeoutError::Timeout) => {}
+                    _ => break,
+                }
+            }
+            (signal, worker.join())
+        })
+    });
+    match (done, result) {
+        (Some(e), _) => Err(e),
+        (None, Ok(r)) => r.map_err(raise),
+        (None, Err(_)) => Err(ComputationError::new_err(
+            "internal error: the computation panicked",
+        )),
+    }
+}
+
+/// The library's version.
+#[pyfunction]
+fn version() -> &'static str {
+    api::VERSION
+}
+
+/// A quantity argument: a number (SI) or a string with a unit of `dim`
+/// ("speed", "length", "time").
+#[pyfunction]
+fn quantity(name: &str, text: &str, dim: &str) -> PyResult<f64> {
+    let d = match dim {
+        "speed" => Dimension::Speed,
+        "length" => Dimension::Length,
+        "time" => Dimension::Time,
+        _ => return Err(PyValueError::new_err(format!("unknown dimension {dim:?}"))),
+    };
+    api::quantity(name, text, d).map_err(raise)
+}
+
+/// The resolved plan (and the [sweep]/[trade] sections) as a dict.
+#[pyfunction]
+fn check<'py>(
+    py: Python<'py>,
+    kind: &str,
+    value: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let src = source(kind, value)?;
+    let checked = py.detach(|| api::check(&src)).map_err(raise)?;
+    to_py(py, &api::check_json(&checked).map_err(raise)?)
+}
+
+/// `linear --json`'s object.
+#[pyfunction]
+#[pyo3(signature = (kind, value, out=None))]
+fn linear<'py>(
+    py: Python<'py>,
+    kind: &str,
+    value: &Bound<'py, PyAny>,
+    out: Option<PathBuf>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let src = source(kind, value)?;
+    let (name, json, written) = py
+        .detach(|| -> Result<_, Failure> {
+            let p = Prepared::new(src.plan()?)?;
+            let r = api::linear(&p)?;
+            let f = out.as_ref().map(|_| files::linear(&r));
+            Ok((p.plan().name.clone(), critspeed::output::linear_json(&r), f))
+        })
+        .map_err(raise)?;
+    if let Some(f) = written {
+        write(out.as_ref(), &name, || f)?;
+    }
+    to_py(py, &json)
+}
+
+/// `bifurcation --json`'s object and the columns of branch.csv.
+#[pyfunction]
+#[pyo3(signature = (kind, value, out=None))]
+fn bifurcation<'py>(
+    py: Python<'py>,
+    kind: &str,
+    value: &Bound<'py, PyAny>,
+    out: Option<PathBuf>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyList>)> {
+    let src = source(kind, value)?;
+    let r = interruptible(py, |cancel| {
+        let p = Prepared::new(src.plan()?)?;
+        let hooks = Hooks {
+            progress: None,
+            cancel: Some(cancel),
+        };
+        api::bifurcation(&p, hooks)
+    })?;
+    write(out.as_ref(), &r.study, || files::bifurcation(&r))?;
+    let json = critspeed::output::bifurcation_json(&r);
+    let csv = critspeed::output::branch_csv(&r);
+    Ok((to_py(py, &json)?, columns_py(py, &csv, api::kinds::BRANCH)?))
+}
+
+/// The columns of simulate.csv.
+#[pyfunction]
+#[pyo3(signature = (kind, value, speeds, y0, duration, dt, out=None))]
+#[allow(clippy::too_many_arguments)]
+fn simulate<'py>(
+    py: Python<'py>,
+    kind: &str,
+    value: &Bound<'py, PyAny>,
+    speeds: Vec<f64>,
+    y0: f64,
+    duration: f64,
+    dt: f64,
+    out: Option<PathBuf>,
+) -> PyResult<Bound<'py, PyList>> {
+    let src = source(kind, value)?;
+    let req = SimulateRequest {
+        speeds,
+        y0,
+        duration,
+        dt,
+    };
+    let (name, runs) = interruptible(py, |cancel| {
+        let p = Prepared::new(src.plan()?)?;
+        let runs = api::simulate(&p, &req, &|_| {}, Some(cancel))?;
+        Ok((p.plan().name.clone(), runs))
+    })?;
+    write(out.as_ref(), &name, || files::simulate(&name, &runs))?;
+    columns_py(
+        py,
+        &critspeed::output::simulate_csv(&runs),
+        api::kinds::NUMBERS,
+    )
+}
+
+/// The columns of sweep.csv. With `out`, resumable like the CLI (records file in out/<name>/).
+#[pyfunction]
+#[pyo3(signature = (kind, value, threads=None, out=None))]
+fn sweep<'py>(
+    py: Python<'py>,
+    kind: &str,
+    value: &Bound<'py, PyAny>,
+    threads: Option<usize>,
+    out: Option<PathBuf>,
+) -> PyResult<Bound<'py, PyList>> {
+    let src = source(kind, value)?;
+    let (study, rows) = interruptible(py, |cancel| {
+        let study = src.sweep_study()?;
+        let records = match &out {
+            Some(root) => {
+                Some(files::folder(root, &study.base.name)?.join(Shard::ALL.records_file()))
+            }
+            None => None,
+        };
+        let opts = SweepOptions {
+            threads,
+            shard: Shard::ALL,
+            records,
+        };
+        let res = api::sweep(&study, &opts, None, Some(cancel))?;
+        Ok((study, res.rows))
+    })?;
+    write(out.as_ref(), &study.base.name, || {
+        files::sweep(&study, &rows)
+    })?;
+    columns_py(
+        py,
+        &critspeed::sweep::sweep_csv(&study.spec.axes, &rows),
+        api::kinds::SWEEP,
+    )
+}
+
+/// `conicity --json`'s object, from a study or a Δr table (`y`, `dr` in metres).
+#[pyfunction]
+#[pyo3(signature = (kind, value, amplitudes=None, out=None, table=None))]
+fn conicity<'py>(
+    py: Python<'py>,
+    kind: &str,
+    value: &Bound<'py, PyAny>,
+    amplitudes: Option<Vec<f64>>,
+    out: Option<PathBuf>,
+    table: Option<(Vec<f64>, Vec<f64>)>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let input = match table {
+        Some((y, dr)) => Err((y, dr)),
+        None => Ok(source(kind, value)?),
+    };
+    let (name, results) = py
+        .detach(|| -> Result<_, Failure> {
+            let (name, dr) = match input {
+                Ok(src) => {
+                    let p = Prepared::new(src.plan()?)?;
+                    (p.plan().name.clone(), api::delta_r(&p)?)
+                }
+                Err((y, dr)) => {
+                    if y.len() != dr.len() {
+                        return Err(Failure::User(anyhow::anyhow!(
+                            "delta_r: y has {} values, dr {}; they must pair up",
+                            y.len(),
+                            dr.len()
+                        )));
+                    }
+                    let pts = y.into_iter().zip(dr).collect();
+                    let t = critspeed::conicity::DeltaR::new(pts, "delta_r")
+                        .map_err(|e| Failure::User(e.into()))?;
+                    ("delta_r".to_string(), t)
+                }
+            };
+            let explicit = amplitudes.is_some();
+            let amps = amplitudes.unwrap_or_else(api::default_amplitudes);
+            let (results, _) = api::conicity(&dr, &amps, explicit)?;
+            Ok((name, results))
+        })
+        .map_err(raise)?;
+    write(out.as_ref(), &name, || files::conicity(&name, &results))?;
+    to_py(py, &api::conicity_json(&results))
+}
+
+/// The columns of geometry.csv.
+#[pyfunction]
+#[pyo3(signature = (kind, value, out=None))]
+fn geometry<'py>(
+    py: Python<'py>,
+    kind: &str,
+    value: &Bound<'py, PyAny>,
+    out: Option<PathBuf>,
+) -> PyResult<Bound<'py, PyList>> {
+    let src = source(kind, value)?;
+    let g = py
+        .detach(|| -> Result<_, Failure> { Ok(api::geometry(&Prepared::new(src.plan()?)?)) })
+        .map_err(raise)?;
+    write(out.as_ref(), &g.study, || files::geometry(&g))?;
+    columns_py(
+        py,
+        &critspeed::output::geometry_csv(&g),
+        api::kinds::NUMBERS,
+    )
+}
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("StudyError", m.py().get_type::<StudyError>())?;
+    m.add("ComputationError", m.py().get_type::<ComputationError>())?;
+    m.add_function(wrap_pyfunction!(version, m)?)?;
+    m.add_function(wrap_pyfunction!(quantity, m)?)?;
+    m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add_function(wrap_pyfunction!(linear, m)?)?;
+    m.add_function(wrap_pyfunction!(bifurcation, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(conicity, m)?)?;
+    m.add_function(wrap_pyfunction!(geometry, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,332 @@
+//! The library's front door: a study in, results out. The command line (`src/cli`) and the
+//! Python package (`python/`) both call these functions and nothing below them, so a result
+//! printed by `critspeed linear --json` and one returned by `critspeed.linear()` come from the
+//! same code path.
+//!
+//! The surface is kept small on purpose: a [`Source`] (file, TOML text or JSON object) gives a
+//! validated [`Plan`]; [`Prepared`] is a plan with its model built (the model type never
+//! crosses this surface); each analysis returns its plain report, [`files`] turns a report into
+//! the bytes of the files the CLI writes, and [`columns`] reads one of those CSV files back as
+//! typed columns (how Python gets arrays identical to the CSV's).
+//!
+//! Long analyses accept a cancellation hook (`Fn() -> bool`), asked between continuation steps,
+//! sweep points and simulated speeds; the CLI passes none.
+
+mod columns;
+pub mod files;
+mod source;
+
+use anyhow::{anyhow, Context};
+use serde_json::{json, Value};
+
+pub use crate::bifurcation::Hooks;
+pub use columns::{columns, Column, Kind};
+pub use source::Source;
+
+/// Column types of the CSV files read back by [`columns`].
+pub mod kinds {
+    pub use super::columns::{BRANCH, NUMBERS, SWEEP};
+}
+
+use crate::analysis::{self, GeometryReport, LinearReport};
+use crate::bifurcation::BifurcationReport;
+use crate::conicity::{Conicity, DeltaR};
+use crate::model::Vehicle;
+use crate::simulate::TimeHistory;
+use crate::study::units::{parse_quantity, Dimension};
+use crate::study::Plan;
+use crate::sweep::{Progress, SweepOptions, SweepResults, SweepStudy};
+
+/// The library's version (the crate's), which the CLI's `--version` and Python's
+/// `critspeed.__version__` report.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// A quantity given as an argument (`name` is the flag or keyword that names it in a
+/// message): a plain number (SI) or a number with one of the units of `dim`.
+pub fn quantity(name: &str, text: &str, dim: Dimension) -> Result<f64, Failure> {
+    if let Ok(v) = text.trim().parse::<f64>() {
+        if v.is_finite() {
+            return Ok(v);
+        }
+    }
+    parse_quantity(text, dim).map_err(|p| {
+        user(anyhow!(
+            "{name} {text:?}: {p}; expected a {dim} in SI ({}) or with one of the units {}",
+            dim.si_unit(),
+            dim.accepted()
+        ))
+    })
+}
+
+/// Why a call failed, and so which exit code the CLI gives and which exception Python raises.
+#[derive(Debug)]
+pub enum Failure {
+    /// bad input (study, argument, foreign file): exit code 2, `critspeed.StudyError`
+    User(anyhow::Error),
+    /// a computation or output failure: exit code 1, `critspeed.ComputationError`
+    Compute(anyhow::Error),
+}
+
+impl Failure {
+    /// The message with its whole context chain, as the CLI prints it.
+    pub fn message(&self) -> String {
+        match self {
+            Failure::User(e) | Failure::Compute(e) => format!("{e:#}"),
+        }
+    }
+}
+
+pub(crate) fn user<E: Into<anyhow::Error>>(e: E) -> Failure {
+    Failure::User(e.into())
+}
+
+pub(crate) fn compute<E: Into<anyhow::Error>>(e: E) -> Failure {
+    Failure::Compute(e.into())
+}
+
+/// A cancellation hook: `true` asks the computation to stop at its next check.
+pub type Cancel<'a> = Option<&'a (dyn Fn() -> bool + Sync)>;
+
+/// A validated plan with its model built once, for any number of analyses.
+pub struct Prepared {
+    plan: Plan,
+    model: Vehicle,
+}
+
+impl Prepared {
+    /// Builds the model of `plan` (the contact geometry table: a computation, so a failure
+    /// here is [`Failure::Compute`]).
+    pub fn new(plan: Plan) -> Result<Self, Failure> {
+        let model = plan
+            .model()
+            .with_context(|| format!("building the contact geometry of study '{}'", plan.name))
+            .map_err(compute)?;
+        Ok(Self { plan, model })
+    }
+
+    /// The plan.
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+}
+
+/// The linear analysis (Kalker critical speeds, the creep law's Hopf speeds, spectra).
+pub fn linear(p: &Prepared) -> Result<LinearReport, Failure> {
+    analysis::linear(&p.plan, &p.model)
+        .context("linear stability analysis")
+        .map_err(compute)
+}
+
+/// The branch of hunting cycles of the study's creep law (defaults when the study has no
+/// `[bifurcation]` section). A cancelled run is a [`Failure::Compute`] saying so.
+pub fn bifurcation(p: &Prepared, hooks: Hooks<'_>) -> Result<BifurcationReport, Failure> {
+    let opts = p.plan.bifurcation_options();
+    let report = crate::bifurcation::analyse_with_hooks(&p.plan.name, &p.model, &opts, hooks)
+        .map_err(|e| compute(anyhow!(e)))?;
+    if hooks.cancel.is_some_and(|c| c()) {
+        return Err(compute(anyhow!(
+            "bifurcation analysis {}",
+            report.stop_reason
+        )));
+    }
+    Ok(report)
+}
+
+/// The contact geometry table.
+pub fn geometry(p: &Prepared) -> GeometryReport {
+    analysis::geometry(&p.plan, &p.model)
+}
+
+/// A time simulation request, in SI.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimulateRequest {
+    /// constant speeds, one run each (m/s)
+    pub speeds: Vec<f64>,
+    /// initial lateral displacement y(0) (m)
+    pub y0: f64,
+    /// simulated time (s)
+    pub duration: f64,
+    /// output sample interval (s)
+    pub dt: f64,
+}
+
+impl SimulateRequest {
+    /// The rules: positive speeds and duration, 0 < dt <= duration, at most 5e6 samples.
+    pub fn validate(&self) -> Result<(), Failure> {
+        let SimulateRequest {
+            speeds,
+            y0,
+            duration,
+            dt,
+        } = self;
+        let finite = speeds
+            .iter()
+            .chain([y0, duration, dt])
+            .all(|v| v.is_finite());
+        if speeds.is_empty()
+            || !finite
+            || speeds.iter().any(|v| *v <= 0.0)
+            || *duration <= 0.0
+            || *dt <= 0.0
+            || dt > duration
+        {
+            return Err(user(anyhow!(
+                "speeds {speeds:?} m/s, y0 {y0} m, duration {duration} s, dt {dt} s: \
+                 at least one speed, all speeds and the duration positive, 0 < dt <= duration"
+            )));
+        }
+        if duration / dt > 5e6 {
+            return Err(user(anyhow!(
+                "duration / dt = {:.0} samples per speed; at most 5e6",
+                duration / dt
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Time histories at each speed of `req` (validated first); `cancel` is asked between speeds
+/// and `before` is called with each speed before its run.
+pub fn simulate(
+    p: &Prepared,
+    req: &SimulateRequest,
+    before: &dyn Fn(f64),
+    cancel: Cancel<'_>,
+) -> Result<Vec<TimeHistory>, Failure> {
+    req.validate()?;
+    let ode = crate::system::ode::OdeOptions {
+        tol: crate::system::ode::Tolerances::new(1e-9, 1e-12).map_err(compute)?,
+        ..Default::default()
+    };
+    let mut runs = Vec::new();
+    for &v in &req.speeds {
+        if cancel.is_some_and(|c| c()) {
+            return Err(compute(anyhow!("time simulation cancelled before {v} m/s")));
+        }
+        before(v);
+        let x0 = crate::simulate::lateral_start(&p.model, req.y0);
+        let h = crate::simulate::simulate(&p.model, v, &x0, req.duration, req.dt, &ode)
+            .with_context(|| format!("time simulation at {v} m/s"))
+            .map_err(compute)?;
+        runs.push(h);
+    }
+    Ok(runs)
+}
+
+/// The Δr = r_R − r_L table of a study's contact geometry.
+pub fn delta_r(p: &Prepared) -> Result<DeltaR, Failure> {
+    DeltaR::new(
+        p.model.contact.table.rolling_radius_difference(),
+        &p.plan.name,
+    )
+    .map_err(compute)
+}
+
+/// The default amplitudes of the conicity command: 0.5 mm to 10 mm by 0.5 mm.
+pub fn default_amplitudes() -> Vec<f64> {
+    (1..=20).map(|k| k as f64 * 0.5e-3).collect()
+}
+
+/// EN 15302 equivalent conicity of `table` at each amplitude (m). With `explicit`, every
+/// amplitude must fit (else a user error); otherwise those beyond the table are skipped and
+/// their reasons returned beside the results.
+pub fn conicity(
+    table: &DeltaR,
+    amplitudes: &[f64],
+    explicit: bool,
+) -> Result<(Vec<Conicity>, Vec<String>), Failure> {
+    let (mut results, mut skipped) = (Vec::new(), Vec::new());
+    for &amp in amplitudes {
+        match table.equivalent_conicity(amp) {
+            Ok(c) => results.push(c),
+            Err(e) if explicit => return Err(user(anyhow!(e))),
+            Err(e) => skipped.push(format!("{:.1} mm: {e}", amp * 1e3)),
+        }
+    }
+    if results.is_empty() {
+        return Err(user(anyhow!("no amplitude fits the Δr table")));
+    }
+    Ok((results, skipped))
+}
+
+/// The conicity results as the JSON object `conicity --json` prints.
+pub fn conicity_json(results: &[Conicity]) -> Value {
+    json!({
+        "amplitude_m": results.iter().map(|c| c.amplitude_m).collect::<Vec<_>>(),
+        "equivalent_conicity": results.iter().map(|c| c.conicity).collect::<Vec<_>>(),
+    })
+}
+
+/// Runs (or resumes, when `opts.records` names a file) a sweep; failures are sorted into
+/// user and computation failures as the CLI's exit codes are.
+pub fn sweep(
+    study: &SweepStudy,
+    opts: &SweepOptions,
+    progress: Option<&(dyn Fn(&Progress) + Sync)>,
+    cancel: Cancel<'_>,
+) -> Result<SweepResults, Failure> {
+    if opts.threads == Some(0) {
+        return Err(user(anyhow!("threads = 0: must be at least 1")));
+    }
+    crate::sweep::run_cancellable(study, opts, progress, cancel).map_err(sweep_failure)
+}
+
+pub(crate) fn sweep_failure(e: crate::sweep::SweepError) -> Failure {
+    if e.is_user_error() {
+        user(e)
+    } else {
+        compute(e)
+    }
+}
+
+/// What `check` found: the plan, and the `[sweep]` and `[trade]` sections, validated.
+pub struct Checked {
+    /// the resolved plan
+    pub plan: Plan,
+    /// the study's sweep, when it has a `[sweep]` section (every axis value gives a valid study)
+    pub sweep: Option<SweepStudy>,
+    /// the `[sweep]` and `[trade]` tables as written, when present
+    pub sections: Vec<(String, toml::Value)>,
+}
+
+/// Validates a study with its `[sweep]` and `[trade]` sections.
+pub fn check(source: &Source) -> Result<Checked, Failure> {
+    let plan = source.plan()?;
+    let file = source.file_schema()?;
+    let sweep = match file.sweep {
+        Some(_) => Some(source.sweep_study()?),
+        None => None,
+    };
+    if let Some(t) = &file.trade {
+        crate::trade::trade_plan(t).map_err(user)?;
+    }
+    let raw: toml::Table = toml::from_str(&source.text).map_err(|e| {
+        user(crate::study::StudyError::Syntax {
+            path: source.origin.clone(),
+            message: e.to_string(),
+        })
+    })?;
+    let sections = ["sweep", "trade"]
+        .iter()
+        .filter_map(|k| raw.get(*k).map(|v| (k.to_string(), v.clone())))
+        .collect();
+    Ok(Checked {
+        plan,
+        sweep,
+        sections,
+    })
+}
+
+/// The resolved plan in SI as JSON (what `critspeed check` prints as a table: the study file's
+/// sections and keys, every quantity a number in SI, defaults filled), with the `[sweep]` and
+/// `[trade]` sections as written. For the cone and cone-on-arc geometries the object is itself
+/// a valid study that resolves to the same plan.
+pub fn check_json(c: &Checked) -> Result<Value, Failure> {
+    let mut v = crate::output::plan_json(&c.plan);
+    if let Value::Object(m) = &mut v {
+        for (k, t) in &c.sections {
+            m.insert(k.clone(), serde_json::to_value(t).map_err(compute)?);
+        }
+    }
+    Ok(v)
+}
