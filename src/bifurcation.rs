@@ -13,7 +13,7 @@ use crate::continuation::{
 };
 use crate::model::Wheelset;
 use crate::stability::{critical_speeds, spectrum_at, Crossing, LinearOptions, LinearSystem};
-use crate::system::ode::{integrate_observed, integrate_to_section, OdeOptions, Tolerances};
+use crate::system::ode::{OdeOptions, Tolerances};
 
 /// Options of the bifurcation analysis (study section `[bifurcation]`).
 #[derive(Clone, Debug, PartialEq)]
@@ -150,7 +150,7 @@ pub fn cycle_at(
     rtol: f64,
 ) -> Result<(OrbitPoint<4>, crate::continuation::Floquet, usize), String> {
     let ode = ode_options(rtol)?;
-    let amplitude = |_: &OrbitPoint<4>| 0.0;
+    let amplitude = |_: &OrbitPoint<4>, _: &SVector<f64, 4>| 0.0;
     let mut params = ContinuationParams::new(
         (0.0, f64::INFINITY),
         f64::INFINITY,
@@ -176,35 +176,6 @@ pub fn cycle_at(
         param: speed,
     })
     .map_err(|e| format!("no cycle found at {speed} m/s: Newton stopped with {e:?}"))
-}
-
-/// Max of |state component `k`| over one period: the first crossing of ẋ_k from + to −,
-/// located on the dense output. If that section is not reached (a cycle whose component has
-/// no interior maximum is not expected, but the integrator may also fail), fall back to the
-/// largest of 400 samples over the period; NaN only if both integrations fail.
-fn peak(model: &Wheelset, o: &OrbitPoint<4>, k: usize, ode: &OdeOptions) -> f64 {
-    let rate = k + 2;
-    let section = move |x: &SVector<f64, 4>| -x[rate];
-    let located = integrate_to_section(
-        model,
-        o.param,
-        &o.x0,
-        1.5 * o.period,
-        &section,
-        1e-9 * o.period,
-        ode,
-    );
-    if let Ok(Some(s)) = located {
-        return s.x[k].abs();
-    }
-    let samples: Vec<f64> = (0..=400).map(|i| o.period * i as f64 / 400.0).collect();
-    let mut max = f64::NAN;
-    let mut observe =
-        |_: f64, x: &SVector<f64, 4>| max = x[k].abs().max(if max.is_nan() { 0.0 } else { max });
-    match integrate_observed(model, o.param, &o.x0, o.period, ode, &samples, &mut observe) {
-        Ok(_) => max,
-        Err(_) => f64::NAN,
-    }
 }
 
 /// The Hopf crossing of `law` in the range, and the eigenvector of its critical pair
@@ -302,8 +273,8 @@ pub fn analyse_with_progress(
     params.max_points = opts.max_points;
     // Newton cannot converge below the integration noise: tie its tolerance to rtol.
     params.newton_tol = (10.0 * opts.rtol).max(1e-10);
-    let amp_ode = ode;
-    let amplitude = move |o: &OrbitPoint<4>| peak(model, o, 0, &amp_ode);
+    // max |y| over the cycle, located on the shooting integration's dense output
+    let amplitude = |_: &OrbitPoint<4>, peaks: &SVector<f64, 4>| peaks[0];
     let counter = std::sync::atomic::AtomicUsize::new(0);
     let report_point = |p: &crate::continuation::BranchPoint<4>| {
         if let Some(f) = progress {
@@ -336,18 +307,18 @@ pub fn analyse_with_progress(
         }
     });
     let branch = cont.run(start, direction);
-    fill(&mut report, &branch, model, &ode);
+    fill(&mut report, &branch);
     Ok(report)
 }
 
-fn fill(report: &mut BifurcationReport, branch: &Branch<4>, model: &Wheelset, ode: &OdeOptions) {
+fn fill(report: &mut BifurcationReport, branch: &Branch<4>) {
     report.cycles = branch
         .points
         .iter()
         .map(|p| CycleRow {
             speed_m_s: p.orbit.param,
             amplitude_y_m: p.amplitude,
-            amplitude_psi_rad: peak(model, &p.orbit, 1, ode),
+            amplitude_psi_rad: p.peaks[1],
             period_s: p.orbit.period,
             stable: p.floquet.stable(),
             max_multiplier_abs: p.floquet.max_nontrivial,

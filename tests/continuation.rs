@@ -18,7 +18,7 @@ fn ode(rtol: f64) -> OdeOptions {
     }
 }
 
-fn radius(o: &OrbitPoint<2>) -> f64 {
+fn radius(o: &OrbitPoint<2>, _: &SVector<f64, 2>) -> f64 {
     o.x0.norm()
 }
 

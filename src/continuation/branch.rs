@@ -85,6 +85,9 @@ pub struct BranchPoint<const N: usize> {
     pub floquet: Floquet,
     /// the caller's amplitude measure
     pub amplitude: f64,
+    /// the largest |x_k| over the orbit, per component (from the last Newton iteration's
+    /// integration, one update of at most `newton_tol` away)
+    pub peaks: SVector<f64, N>,
     /// unit tangent (scaled)
     pub tangent: DVector<f64>,
     /// Newton iterations used
@@ -148,6 +151,7 @@ pub struct Branch<const N: usize> {
 struct Corrected<const N: usize> {
     orbit: OrbitPoint<N>,
     floquet: Floquet,
+    peaks: SVector<f64, N>,
     tangent: DVector<f64>,
     iterations: usize,
 }
@@ -174,8 +178,9 @@ pub struct Continuation<'a, const N: usize, F: VectorField<N>> {
     pub shooting: Shooting<'a, N, F>,
     /// settings
     pub params: ContinuationParams,
-    /// the amplitude of an orbit (e.g. max |y| over a period)
-    pub amplitude: &'a (dyn Fn(&OrbitPoint<N>) -> f64 + Sync),
+    /// the amplitude of an orbit (e.g. max |y| over a period), given the orbit and the largest
+    /// |x_k| per component over it (located on the shooting integration's dense output)
+    pub amplitude: &'a (dyn Fn(&OrbitPoint<N>, &SVector<f64, N>) -> f64 + Sync),
     /// called with each accepted orbit (progress reporting); `None` for silence
     pub progress: Option<&'a (dyn Fn(&BranchPoint<N>) + Sync)>,
 }
@@ -245,6 +250,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 return Ok(Corrected {
                     orbit: unpack(&z),
                     floquet: Floquet::from_monodromy(&lin.monodromy, self.shooting.symmetric),
+                    peaks: lin.peaks,
                     tangent: t,
                     iterations: it,
                 });
@@ -303,11 +309,12 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                     continue;
                 }
             };
-            let amplitude = (self.amplitude)(&c.orbit);
+            let amplitude = (self.amplitude)(&c.orbit, &c.peaks);
             let point = BranchPoint {
                 orbit: c.orbit,
                 floquet: c.floquet,
                 amplitude,
+                peaks: c.peaks,
                 tangent: c.tangent.clone(),
                 newton_iterations: c.iterations,
             };
@@ -388,6 +395,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         let a_c = Corrected {
             orbit: a.orbit,
             floquet: a.floquet.clone(),
+            peaks: a.peaks,
             tangent: a.tangent.clone(),
             iterations: 0,
         };
@@ -429,7 +437,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         SpecialPoint {
             kind,
             after: index,
-            amplitude: (self.amplitude)(&best.orbit),
+            amplitude: (self.amplitude)(&best.orbit, &best.peaks),
             orbit: best.orbit,
             located: bracket <= self.params.locate_tol * ds.max(1.0),
             bracket,

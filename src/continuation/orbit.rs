@@ -13,7 +13,7 @@
 
 use nalgebra::{Complex, DMatrix, DVector, SMatrix, SVector};
 
-use crate::system::ode::{integrate, OdeError, OdeOptions, VectorField};
+use crate::system::ode::{integrate, integrate_with_peaks, OdeError, OdeOptions, VectorField};
 
 /// The shooting problem: a vector field, whether to use the symmetric half-period form, and
 /// the integrator options.
@@ -34,8 +34,14 @@ pub struct Shooting<'a, const N: usize, F: VectorField<N>> {
     pub dp_rel: f64,
 }
 
-/// End state, monodromy (when asked for) and integrator steps of one flow evaluation.
-type Flowed<const N: usize> = (SVector<f64, N>, Option<SMatrix<f64, N, N>>, usize);
+/// End state, monodromy (when asked for), integrator steps and the largest |x_k| over the
+/// interval of one flow evaluation.
+type Flowed<const N: usize> = (
+    SVector<f64, N>,
+    Option<SMatrix<f64, N, N>>,
+    usize,
+    SVector<f64, N>,
+);
 
 /// One point of an orbit computation: the start, period and parameter.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,6 +66,10 @@ pub struct Linearised<const N: usize> {
     pub end: SVector<f64, N>,
     /// integrator steps used
     pub steps: usize,
+    /// the largest $|x_k|$ over the shooting interval, per component (located on the
+    /// integrator's continuous extension); for a symmetric orbit the half period holds the
+    /// maximum over the whole period
+    pub peaks: SVector<f64, N>,
 }
 
 impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
@@ -82,8 +92,13 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
             monodromy,
             ..self.ode
         };
-        let s = integrate(self.field, p, x0, self.horizon(period), &opts)?;
-        Ok((s.x, s.monodromy, s.stats.steps))
+        if monodromy {
+            let (s, peaks) = integrate_with_peaks(self.field, p, x0, self.horizon(period), &opts)?;
+            Ok((s.x, s.monodromy, s.stats.steps, peaks))
+        } else {
+            let s = integrate(self.field, p, x0, self.horizon(period), &opts)?;
+            Ok((s.x, s.monodromy, s.stats.steps, SVector::zeros()))
+        }
     }
 
     fn residual_of(&self, x0: &SVector<f64, N>, end: &SVector<f64, N>) -> SVector<f64, N> {
@@ -107,8 +122,8 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
         } else {
             (main(), shifted())
         };
-        let (end, phi, steps) = a?;
-        let (plus, _, _) = b?;
+        let (end, phi, steps, peaks) = a?;
+        let (plus, _, _, _) = b?;
         let phi = phi.ok_or(OdeError::NonFinite { t: 0.0 })?;
         let residual = self.residual_of(&z.x0, &end);
         let sign = if self.symmetric { 1.0 } else { -1.0 };
@@ -125,6 +140,7 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
             monodromy: phi,
             end,
             steps,
+            peaks,
         })
     }
 }

@@ -183,6 +183,24 @@ pub fn integrate_partial<const N: usize, F: VectorField<N>>(
     Ok(run(f, p, x0, t_end, opts, |_, _, _| ControlFlow::Continue(()))?.sol)
 }
 
+/// As [`integrate`], and also the largest $|x_k(t)|$ of each component over $[0, t_{end}]$,
+/// located on each step's continuous extension (see `Dense::abs_max`): the amplitudes of a
+/// periodic orbit come with the shooting integration instead of costing one more.
+pub fn integrate_with_peaks<const N: usize, F: VectorField<N>>(
+    f: &F,
+    p: f64,
+    x0: &SVector<f64, N>,
+    t_end: f64,
+    opts: &OdeOptions,
+) -> Result<(Solution<N>, SVector<f64, N>), OdeError> {
+    let mut peaks = x0.abs();
+    let run = run(f, p, x0, t_end, opts, |_, start, trial| {
+        peaks = peaks.sup(&Dense::new(start, trial).abs_max());
+        ControlFlow::Continue(())
+    })?;
+    Ok((checked(run)?, peaks))
+}
+
 /// As [`integrate`], calling `observer(t, &x)` at each sample time (sorted ascending, within
 /// $[0, t_{end}]$; a sample at a step end gets that step's state, others the step's
 /// 4th-order continuous extension, whose error is of the order of the local error the

@@ -43,7 +43,9 @@ mod tests_events;
 
 use nalgebra::{SMatrix, SVector};
 
-pub use driver::{integrate, integrate_observed, integrate_partial, integrate_to_section};
+pub use driver::{
+    integrate, integrate_observed, integrate_partial, integrate_to_section, integrate_with_peaks,
+};
 
 /// An autonomous vector field $\dot x = f(x; p)$ with its exact Jacobian.
 pub trait VectorField<const N: usize>: Sync {
@@ -51,6 +53,12 @@ pub trait VectorField<const N: usize>: Sync {
     fn rhs(&self, x: &SVector<f64, N>, p: f64) -> SVector<f64, N>;
     /// The exact Jacobian $\partial f / \partial x$ at $(x; p)$.
     fn jacobian(&self, x: &SVector<f64, N>, p: f64) -> SMatrix<f64, N, N>;
+    /// $f$ and $J$ together (what each stage of the variational equations needs). The default
+    /// calls [`rhs`](Self::rhs) and [`jacobian`](Self::jacobian); a field whose Jacobian comes
+    /// with its value (forward-mode dual numbers) overrides it to evaluate the model once.
+    fn rhs_jacobian(&self, x: &SVector<f64, N>, p: f64) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
+        (self.rhs(x, p), self.jacobian(x, p))
+    }
     /// Number of switching functions (surfaces where $f$ is not smooth); default 0.
     fn switch_count(&self) -> usize {
         0
