@@ -28,9 +28,15 @@ pub struct BifurcationOptions {
     pub ds_max: f64,
     /// most cycles computed; default 400
     pub max_points: usize,
-    /// run each Newton step's two independent integrations on two threads (default true;
-    /// results are bitwise identical to the serial run)
+    /// run each Newton step's independent integrations (per shooting segment: the flow with
+    /// its monodromy and the speed perturbation) on rayon threads (default true; results are
+    /// bitwise identical to the serial run)
     pub parallel: bool,
+    /// shooting segments of the half period; 0 (default): one per rayon thread when
+    /// `parallel` (at most 8), else 1. Each segment is an equal piece of independent work;
+    /// for a given count the results do not depend on `parallel`, and different counts agree
+    /// to the Newton tolerance
+    pub segments: usize,
 }
 
 impl BifurcationOptions {
@@ -43,6 +49,19 @@ impl BifurcationOptions {
             ds_max: 0.5,
             max_points: 400,
             parallel: true,
+            segments: 0,
+        }
+    }
+}
+
+impl BifurcationOptions {
+    /// The shooting segments used: `segments`, or for 0 one per rayon thread when `parallel`
+    /// (at most 8), else 1.
+    pub fn segment_count(&self) -> usize {
+        match (self.segments, self.parallel) {
+            (0, true) => rayon::current_num_threads().clamp(1, 8),
+            (0, false) => 1,
+            (m, _) => m,
         }
     }
 }
@@ -165,6 +184,7 @@ pub fn cycle_at(
             ode,
             dp_rel: rtol.sqrt(),
             parallel: true,
+            segments: 1,
         },
         params,
         amplitude: &amplitude,
@@ -289,6 +309,7 @@ pub fn analyse_with_progress(
             ode,
             dp_rel: opts.rtol.sqrt(),
             parallel: opts.parallel,
+            segments: opts.segment_count(),
         },
         params,
         amplitude: &amplitude,

@@ -127,17 +127,20 @@ fn folds_converge_as_tolerances_tighten() {
     assert!(best.1 > best.2);
 }
 
-/// rayon inside each Newton step changes nothing: the parallel and serial branches are
-/// bitwise identical.
+/// rayon inside each Newton step changes nothing: for a given segment count (1 and 3) the
+/// parallel and serial branches are bitwise identical.
 #[test]
 fn parallel_and_serial_branches_are_identical() {
     let (plan, model) = load("flange-hysteresis.toml");
-    let mut opts = plan.bifurcation_options();
-    opts.max_amplitude = 0.005;
-    opts.parallel = true;
-    let a = analyse(&plan.name, &model, &opts).expect("parallel run");
-    opts.parallel = false;
-    let b = analyse(&plan.name, &model, &opts).expect("serial run");
-    assert_eq!(a, b);
-    assert!(a.cycles.len() > 10);
+    for segments in [1, 3] {
+        let mut opts = plan.bifurcation_options();
+        opts.max_amplitude = 0.005;
+        opts.segments = segments;
+        opts.parallel = true;
+        let a = analyse(&plan.name, &model, &opts).expect("parallel run");
+        opts.parallel = false;
+        let b = analyse(&plan.name, &model, &opts).expect("serial run");
+        assert_eq!(a, b);
+        assert!(a.cycles.len() > 10);
+    }
 }

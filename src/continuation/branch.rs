@@ -11,7 +11,7 @@
 
 use nalgebra::{DMatrix, DVector, SVector};
 
-use super::orbit::{solve_dense, Floquet, NewtonStop, OrbitPoint, Shooting};
+use super::orbit::{solve_dense, Floquet, NewtonStop, OrbitPoint, SegmentSeed, Shooting};
 use crate::system::ode::VectorField;
 
 /// Continuation settings. Defaults are for orbits scaled to O(1) by `scale`.
@@ -92,6 +92,8 @@ pub struct BranchPoint<const N: usize> {
     pub tangent: DVector<f64>,
     /// Newton iterations used
     pub newton_iterations: usize,
+    /// the shooting segments of the last linearisation (interior starts for the next solve)
+    pub seed: SegmentSeed<N>,
 }
 
 /// Kinds of special points on a branch of cycles.
@@ -154,6 +156,7 @@ struct Corrected<const N: usize> {
     peaks: SVector<f64, N>,
     tangent: DVector<f64>,
     iterations: usize,
+    seed: SegmentSeed<N>,
 }
 
 fn pack<const N: usize>(z: &OrbitPoint<N>) -> DVector<f64> {
@@ -192,21 +195,25 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         })
     }
 
-    /// Newton from the prediction `zp` with the arclength row `tangent` (scaled).
+    /// Newton from the prediction `zp` with the arclength row `tangent` (scaled); `seed`: the
+    /// segments of a nearby orbit's linearisation (interior shooting starts).
     fn correct(
         &self,
         zp: &DVector<f64>,
         tangent: &DVector<f64>,
+        seed: Option<&SegmentSeed<N>>,
     ) -> Result<Corrected<N>, NewtonStop> {
         let s = self.scale();
         let xr: SVector<f64, N> = SVector::from_fn(|i, _| zp[i]);
         let fr = self.shooting.field.rhs(&xr, zp[N + 1]);
         let mut z = zp.clone();
+        let mut last_seed = seed.cloned();
         for it in 1..=self.params.newton_max_iter {
             let lin = self
                 .shooting
-                .linearise(&unpack::<N>(&z))
+                .linearise_from(&unpack::<N>(&z), last_seed.as_ref())
                 .map_err(|_| NewtonStop::Diverged)?;
+            last_seed = Some(lin.seed.clone());
             let mut a = DMatrix::zeros(N + 2, N + 2);
             a.view_mut((0, 0), (N, N + 2)).copy_from(&lin.jacobian);
             let mut b = DVector::zeros(N + 2);
@@ -253,6 +260,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                     peaks: lin.peaks,
                     tangent: t,
                     iterations: it,
+                    seed: lin.seed,
                 });
             }
         }
@@ -267,7 +275,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
     ) -> Result<(OrbitPoint<N>, Floquet, usize), NewtonStop> {
         let mut pin = DVector::zeros(N + 2);
         pin[N + 1] = 1.0;
-        let c = self.correct(&pack(&guess), &pin)?;
+        let c = self.correct(&pack(&guess), &pin, None)?;
         Ok((c.orbit, c.floquet, c.iterations))
     }
 
@@ -286,6 +294,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         let mut points: Vec<BranchPoint<N>> = Vec::new();
         let mut special = Vec::new();
         let mut last_failure = NewtonStop::Converged;
+        let mut seed: Option<SegmentSeed<N>> = None;
         let stop = loop {
             if points.len() >= p.max_points {
                 break BranchStop::MaxPoints;
@@ -297,7 +306,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 };
             }
             let zp = self.predict(&z, &tangent, ds);
-            let c = match self.correct(&zp, &tangent) {
+            let c = match self.correct(&zp, &tangent, seed.as_ref()) {
                 Ok(c) if c.tangent.dot(&tangent) >= p.max_angle.cos() || points.is_empty() => c,
                 Ok(_) => {
                     ds *= 0.5;
@@ -317,6 +326,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 peaks: c.peaks,
                 tangent: c.tangent.clone(),
                 newton_iterations: c.iterations,
+                seed: c.seed.clone(),
             };
             if let Some(prev) = points.last() {
                 self.detect(prev, &point, points.len() - 1, ds, &mut special);
@@ -328,6 +338,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             points.push(point);
             z = pack(&c.orbit);
             tangent = c.tangent;
+            seed = Some(c.seed);
             // Step control: aim at the target iteration count. Newton from a good predictor
             // often takes the same count over a wide range of steps, so at the target the step
             // still grows a little; the angle guard and ds_max bound it.
@@ -390,7 +401,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         let za = pack(&a.orbit);
         let eval = |s: f64| {
             let zp = self.predict(&za, &a.tangent, s);
-            self.correct(&zp, &a.tangent).ok()
+            self.correct(&zp, &a.tangent, Some(&a.seed)).ok()
         };
         let a_c = Corrected {
             orbit: a.orbit,
@@ -398,6 +409,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             peaks: a.peaks,
             tangent: a.tangent.clone(),
             iterations: 0,
+            seed: a.seed.clone(),
         };
         let (mut lo, mut glo) = (0.0, g(&a_c));
         let Some(end) = eval(ds) else {

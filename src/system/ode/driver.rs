@@ -69,6 +69,7 @@ where
     }
     .min(opts.h_max);
     let (mut after_reject, mut non_finite, mut hooked) = (false, false, false);
+    let mut h_first = f64::NAN;
     let stop = if !finite(&cur) {
         StopReason::NonFinite
     } else {
@@ -111,6 +112,9 @@ where
                 stats.rejected += 1;
                 continue;
             }
+            if stats.steps == 0 {
+                h_first = trial.end.t - cur.t;
+            }
             stats.steps += 1;
             stats.events += switches.commit(field, &trial.end.x);
             // A step shortened to a surface keeps the h of the step it was cut from: its
@@ -136,6 +140,7 @@ where
         monodromy,
         stats,
         stop,
+        h_first,
     };
     Ok(Run { sol, h, hooked })
 }
