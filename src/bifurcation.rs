@@ -24,7 +24,9 @@ pub struct BifurcationOptions {
     pub max_amplitude: f64,
     /// integrator relative tolerance; default 1e-10 (atol = rtol × 1 mm)
     pub rtol: f64,
-    /// largest continuation step (scaled: 1 ≈ 1 mm or 1 m/s); default 0.5
+    /// largest continuation step (scaled: 1 ≈ 1 mm or 1 m/s); default 2 (AUTO-07p's DSMAX in
+    /// the peer comparison): the step grows to it only on easy stretches (Newton at or below
+    /// its target count, tangents within 0.3 rad), special points are located regardless
     pub ds_max: f64,
     /// most cycles computed; default 400
     pub max_points: usize,
@@ -46,7 +48,7 @@ impl BifurcationOptions {
             speed_range,
             max_amplitude: 0.020,
             rtol: 1e-10,
-            ds_max: 0.5,
+            ds_max: 2.0,
             max_points: 400,
             parallel: true,
             segments: 0,
