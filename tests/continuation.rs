@@ -227,7 +227,11 @@ fn segments_case<const N: usize>() {
             let r2 = p.amplitude * p.amplitude;
             assert_relative_eq!(p.orbit.param, r2 * r2 - r2, epsilon = 1e-8);
             assert_relative_eq!(p.orbit.period, period, max_relative = 1e-9);
-            assert!(p.floquet.trivial_error < 1e-8, "{}", p.floquet.trivial_error);
+            assert!(
+                p.floquet.trivial_error < 1e-8,
+                "{}",
+                p.floquet.trivial_error
+            );
             for k in 2..N {
                 let mu = (-Padded::<N>::rate(k) * period).exp();
                 let found = p

@@ -92,7 +92,12 @@ impl<const N: usize> SegmentSeed<N> {
     fn starts(&self, z: &OrbitPoint<N>) -> Vec<SVector<f64, N>> {
         let (dt, dp) = (z.period - self.z.period, z.param - self.z.param);
         let mut out = vec![z.x0];
-        for (i, prev) in self.segments.iter().enumerate().take(self.segments.len() - 1) {
+        for (i, prev) in self
+            .segments
+            .iter()
+            .enumerate()
+            .take(self.segments.len() - 1)
+        {
             let dx = out[i] - prev.start;
             out.push(prev.end + prev.phi * dx + prev.d_t * dt + prev.d_p * dp);
         }

@@ -35,7 +35,9 @@ fn number(s: &str) -> f64 {
         let t = s.replace('D', "E");
         t.parse().unwrap_or_else(|_| {
             let k = t.rfind(['+', '-']).filter(|&k| k > 0).expect("AUTO number");
-            format!("{}E{}", &t[..k], &t[k..]).parse().expect("AUTO number")
+            format!("{}E{}", &t[..k], &t[k..])
+                .parse()
+                .expect("AUTO number")
         })
     })
 }
@@ -111,7 +113,11 @@ pub fn collocation_max(s: &Solution) -> f64 {
     let mut best = s.u.iter().map(|u| u[0].abs()).fold(0.0, f64::max);
     for j in 0..intervals {
         let (a0, b0) = (s.t[j * m], s.t[(j + 1) * m]);
-        let sign = if poly(j, 0.5 * (a0 + b0)) < 0.0 { -1.0 } else { 1.0 };
+        let sign = if poly(j, 0.5 * (a0 + b0)) < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
         let f = |x: f64| sign * poly(j, x);
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let (mut a, mut b) = (a0, b0);

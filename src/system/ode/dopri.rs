@@ -312,7 +312,13 @@ impl<const N: usize> Dense<N> {
     pub fn abs_max(&self) -> SVector<f64, N> {
         let [r0, r1, r2, r3, r4] = &self.r;
         SVector::from_fn(|i, _| {
-            let c = [r0[i], r1[i] + r2[i], r3[i] + r4[i] - r2[i], -(r3[i] + 2.0 * r4[i]), r4[i]];
+            let c = [
+                r0[i],
+                r1[i] + r2[i],
+                r3[i] + r4[i] - r2[i],
+                -(r3[i] + 2.0 * r4[i]),
+                r4[i],
+            ];
             let x = |t: f64| c[0] + t * (c[1] + t * (c[2] + t * (c[3] + t * c[4])));
             let dx = |t: f64| c[1] + t * (2.0 * c[2] + t * (3.0 * c[3] + t * 4.0 * c[4]));
             let mut best = x(0.0).abs().max(x(1.0).abs());
