@@ -205,7 +205,7 @@ fn auto_fold(b: &str) -> Option<f64> {
     let c1 = d01 - c2 * (a0 + a1);
     let c0 = v0 - c1 * a0 - c2 * a0 * a0;
     let a = -c1 / (2.0 * c2);
-    (c2 > 0.0 && a > a0.min(a2) && a < a0.max(a2)).then(|| c0 + c1 * a + c2 * a * a)
+    (c2 > 0.0 && a > a0.min(a2) && a < a0.max(a2)).then_some(c0 + c1 * a + c2 * a * a)
 }
 
 pub fn compare(case: &'static str, study_file: &str) -> Case {
@@ -290,7 +290,7 @@ pub fn section(s: &mut String) {
         if let Some((a, b)) = c.fold {
             let _ = writeln!(s, " Fold: AUTO {a:.4} m/s (vertex of the parabola through its three slowest branch points: AUTO detects the sign change of its fold function but its location does not converge here), critspeed {b:.6} m/s (located).");
         }
-        let _ = writeln!(s, "\n| V (m/s) | period AUTO (s) | critspeed | rel. diff. | max y AUTO (mm) | critspeed | rel. diff. | |μ| AUTO | critspeed | period error AUTO, critspeed | max y error AUTO, critspeed |\n|---|---|---|---|---|---|---|---|---|---|---|");
+        let _ = writeln!(s, "\n| V (m/s) | period AUTO (s) | critspeed | rel. diff. | max y AUTO (mm) | critspeed | rel. diff. | largest nontrivial &#124;μ&#124; AUTO | critspeed | period error AUTO, critspeed | max y error AUTO, critspeed |\n|---|---|---|---|---|---|---|---|---|---|---|");
         for r in &c.rows {
             let _ = writeln!(
                 s,
