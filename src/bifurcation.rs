@@ -34,8 +34,8 @@ pub struct BifurcationOptions {
     /// its monodromy and the speed perturbation) on rayon threads (default true; results are
     /// bitwise identical to the serial run)
     pub parallel: bool,
-    /// shooting segments of the half period; 0 (default): one per rayon thread when
-    /// `parallel` (at most 8), else 1. Each segment is an equal piece of independent work;
+    /// shooting segments of the half period (study key `[bifurcation] segments`); 0 (default):
+    /// one per rayon thread when `parallel` (at most 8), else 1. Each segment is an equal piece of independent work;
     /// for a given count the results do not depend on `parallel`, and different counts agree
     /// to the Newton tolerance
     pub segments: usize,
