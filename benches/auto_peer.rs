@@ -53,7 +53,13 @@ struct Padded {
 impl VectorField<30> for Padded {
     fn rhs(&self, x: &SVector<f64, 30>, mu: f64) -> SVector<f64, 30> {
         let f = self.core.rhs(&SVector::<f64, 2>::new(x[0], x[1]), mu);
-        SVector::from_fn(|k, _| if k < 2 { f[k] } else { -(0.3 + 0.05 * k as f64) * x[k] })
+        SVector::from_fn(|k, _| {
+            if k < 2 {
+                f[k]
+            } else {
+                -(0.3 + 0.05 * k as f64) * x[k]
+            }
+        })
     }
     fn jacobian(&self, x: &SVector<f64, 30>, mu: f64) -> SMatrix<f64, 30, 30> {
         let j = self.core.jacobian(&SVector::<f64, 2>::new(x[0], x[1]), mu);
