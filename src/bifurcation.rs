@@ -14,7 +14,7 @@ use crate::continuation::{
     Branch, BranchStop, Continuation, ContinuationParams, OrbitPoint, Shooting, SpecialKind,
 };
 use crate::stability::{critical_speeds, spectrum_at, Crossing, LinearOptions, LinearSystem};
-use crate::system::ode::{integrate_observed, integrate_to_section, OdeOptions, Tolerances};
+use crate::system::ode::{OdeOptions, Tolerances};
 
 /// Options of the bifurcation analysis (study section `[bifurcation]`).
 #[derive(Clone, Debug, PartialEq)]
@@ -25,13 +25,21 @@ pub struct BifurcationOptions {
     pub max_amplitude: f64,
     /// integrator relative tolerance; default 1e-10 (atol = rtol × 1 mm)
     pub rtol: f64,
-    /// largest continuation step (scaled: 1 ≈ 1 mm or 1 m/s); default 0.5
+    /// largest continuation step (scaled: 1 ≈ 1 mm or 1 m/s); default 2 (AUTO-07p's DSMAX in
+    /// the peer comparison): the step grows to it only on easy stretches (Newton at or below
+    /// its target count, tangents within 0.3 rad), special points are located regardless
     pub ds_max: f64,
     /// most cycles computed; default 400
     pub max_points: usize,
-    /// run each Newton step's two independent integrations on two threads (default true;
-    /// results are bitwise identical to the serial run)
+    /// run each Newton step's independent integrations (per shooting segment: the flow with
+    /// its monodromy and the speed perturbation) on rayon threads (default true; results are
+    /// bitwise identical to the serial run)
     pub parallel: bool,
+    /// shooting segments of the half period (study key `[bifurcation] segments`); 0 (default):
+    /// one per rayon thread when `parallel` (at most 8), else 1. Each segment is an equal piece of independent work;
+    /// for a given count the results do not depend on `parallel`, and different counts agree
+    /// to the Newton tolerance
+    pub segments: usize,
 }
 
 impl BifurcationOptions {
@@ -41,9 +49,22 @@ impl BifurcationOptions {
             speed_range,
             max_amplitude: 0.020,
             rtol: 1e-10,
-            ds_max: 0.5,
+            ds_max: 2.0,
             max_points: 400,
             parallel: true,
+            segments: 0,
+        }
+    }
+}
+
+impl BifurcationOptions {
+    /// The shooting segments used: `segments`, or for 0 one per rayon thread when `parallel`
+    /// (at most 8), else 1.
+    pub fn segment_count(&self) -> usize {
+        match (self.segments, self.parallel) {
+            (0, true) => rayon::current_num_threads().clamp(1, 8),
+            (0, false) => 1,
+            (m, _) => m,
         }
     }
 }
@@ -166,7 +187,7 @@ pub fn cycle_at<const N: usize>(
         ));
     }
     let ode = ode_options(rtol)?;
-    let amplitude = |_: &OrbitPoint<N>| 0.0;
+    let amplitude = |_: &OrbitPoint<N>, _: &SVector<f64, N>| 0.0;
     let mut scale: Vec<f64> = (0..N)
         .map(|i| if i < N / 2 { 1e-3 } else { 1e-2 })
         .collect();
@@ -181,6 +202,7 @@ pub fn cycle_at<const N: usize>(
             ode,
             dp_rel: rtol.sqrt(),
             parallel: true,
+            segments: 1,
         },
         params,
         amplitude: &amplitude,
@@ -193,78 +215,6 @@ pub fn cycle_at<const N: usize>(
         param: speed,
     })
     .map_err(|e| format!("no cycle found at {speed} m/s: Newton stopped with {e:?}"))
-}
-
-/// Max of |state component `k`| over one period: the first crossing of ẋ_k from + to −,
-/// located on the dense output. If that section is not reached (a cycle whose component has
-/// no interior maximum is not expected, but the integrator may also fail), fall back to the
-/// largest of 400 samples over the period; NaN only if both integrations fail.
-fn peak<const N: usize>(model: &Vehicle, o: &OrbitPoint<N>, k: usize, ode: &OdeOptions) -> f64 {
-    let rate = k + N / 2;
-    let section = move |x: &SVector<f64, N>| -x[rate];
-    let located = integrate_to_section(
-        model,
-        o.param,
-        &o.x0,
-        1.5 * o.period,
-        &section,
-        1e-9 * o.period,
-        ode,
-    );
-    if let Ok(Some(s)) = located {
-        return s.x[k].abs();
-    }
-    let samples: Vec<f64> = (0..=400).map(|i| o.period * i as f64 / 400.0).collect();
-    let mut max = f64::NAN;
-    let mut observe =
-        |_: f64, x: &SVector<f64, N>| max = x[k].abs().max(if max.is_nan() { 0.0 } else { max });
-    match integrate_observed(model, o.param, &o.x0, o.period, ode, &samples, &mut observe) {
-        Ok(_) => max,
-        Err(_) => f64::NAN,
-    }
-}
-
-/// Every body's (max |y|, max |ψ|) over one period, from 1024 uniform samples with a
-/// parabola through each largest sample and its neighbours (relative error of order 1e-8
-/// for a smooth cycle).
-fn body_amplitudes<const N: usize>(
-    model: &Vehicle,
-    o: &OrbitPoint<N>,
-    ode: &OdeOptions,
-) -> Vec<(f64, f64)> {
-    const SAMPLES: usize = 1024;
-    let times: Vec<f64> = (0..=SAMPLES)
-        .map(|i| o.period * i as f64 / SAMPLES as f64)
-        .collect();
-    let mut rows: Vec<[f64; N]> = Vec::with_capacity(times.len());
-    let mut observe = |_: f64, x: &SVector<f64, N>| rows.push(std::array::from_fn(|i| x[i]));
-    if integrate_observed(model, o.param, &o.x0, o.period, ode, &times, &mut observe).is_err()
-        || rows.len() < 3
-    {
-        return vec![(f64::NAN, f64::NAN); model.bodies.len()];
-    }
-    let amplitude = |k: usize| {
-        let v: Vec<f64> = rows.iter().map(|r| r[k].abs()).collect();
-        let Some((i, &m)) = v.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)) else {
-            return f64::NAN;
-        };
-        if i == 0 || i + 1 >= v.len() {
-            return m;
-        }
-        // vertex of the parabola through (−1, a), (0, b), (1, c)
-        let (a, b, c) = (v[i - 1], v[i], v[i + 1]);
-        let den = a - 2.0 * b + c;
-        if den >= 0.0 {
-            m
-        } else {
-            b - (c - a) * (c - a) / (8.0 * den)
-        }
-    };
-    model
-        .bodies
-        .iter()
-        .map(|b| (amplitude(b.dof), amplitude(b.dof + 1)))
-        .collect()
 }
 
 /// The Hopf crossing of `law` in the range, and the eigenvector of its critical pair
@@ -436,8 +386,8 @@ fn analyse_states<const N: usize>(
     params.max_points = opts.max_points;
     // Newton cannot converge below the integration noise: tie its tolerance to rtol.
     params.newton_tol = (10.0 * opts.rtol).max(1e-10);
-    let amp_ode = ode;
-    let amplitude = move |o: &OrbitPoint<N>| peak(model, o, 0, &amp_ode);
+    // max |y| over the cycle, located on the shooting integration's dense output
+    let amplitude = |_: &OrbitPoint<N>, peaks: &SVector<f64, N>| peaks[0];
     let counter = std::sync::atomic::AtomicUsize::new(0);
     let report_point = |p: &crate::continuation::BranchPoint<N>| {
         if let Some(f) = progress {
@@ -452,6 +402,7 @@ fn analyse_states<const N: usize>(
             ode,
             dp_rel: opts.rtol.sqrt(),
             parallel: opts.parallel,
+            segments: opts.segment_count(),
         },
         params,
         amplitude: &amplitude,
@@ -471,23 +422,18 @@ fn analyse_states<const N: usize>(
         }
     });
     let branch = cont.run(start, direction);
-    fill(&mut report, &branch, model, &ode);
+    fill(&mut report, &branch, model);
     Ok(report)
 }
 
-fn fill<const N: usize>(
-    report: &mut BifurcationReport,
-    branch: &Branch<N>,
-    model: &Vehicle,
-    ode: &OdeOptions,
-) {
+fn fill<const N: usize>(report: &mut BifurcationReport, branch: &Branch<N>, model: &Vehicle) {
     report.cycles = branch
         .points
         .iter()
         .map(|p| CycleRow {
             speed_m_s: p.orbit.param,
             amplitude_y_m: p.amplitude,
-            amplitude_psi_rad: peak(model, &p.orbit, 1, ode),
+            amplitude_psi_rad: p.peaks[1],
             period_s: p.orbit.period,
             stable: p.floquet.stable(),
             max_multiplier_abs: p.floquet.max_nontrivial,
@@ -502,10 +448,15 @@ fn fill<const N: usize>(
                         .map_or((f64::NAN, f64::NAN), |m| (m.re, m.im))
                 })
                 .collect(),
+            // every body's max |y| and max |ψ|, located on the same dense output
             body_amplitudes: if N == 4 {
                 Vec::new()
             } else {
-                body_amplitudes(model, &p.orbit, ode)
+                model
+                    .bodies
+                    .iter()
+                    .map(|b| (p.peaks[b.dof], p.peaks[b.dof + 1]))
+                    .collect()
             },
         })
         .collect();

@@ -7,7 +7,7 @@ use critspeed::continuation::{
     BranchStop, Continuation, ContinuationParams, OrbitPoint, Shooting, SpecialKind,
 };
 use critspeed::reference::HopfNormalForm;
-use critspeed::system::ode::{OdeOptions, Tolerances};
+use critspeed::system::ode::{OdeOptions, Tolerances, VectorField};
 use nalgebra::{DVector, SVector};
 use std::f64::consts::PI;
 
@@ -18,7 +18,7 @@ fn ode(rtol: f64) -> OdeOptions {
     }
 }
 
-fn radius(o: &OrbitPoint<2>) -> f64 {
+fn radius(o: &OrbitPoint<2>, _: &SVector<f64, 2>) -> f64 {
     o.x0.norm()
 }
 
@@ -38,6 +38,7 @@ fn continuation<'a>(
             ode: ode(1e-12),
             dp_rel: 1e-6,
             parallel: false,
+            segments: 1,
         },
         params,
         amplitude: &radius,
@@ -172,4 +173,113 @@ fn cancellation_hook_stops_after_the_points_it_allowed() {
     assert_eq!(cut.points.len(), 5);
     assert!(full.points.len() > 5, "{:?}", full.stop);
     assert_eq!(cut.points[..], full.points[..5]);
+}
+
+/// The Hopf normal form in (x0, x1) plus N − 2 decoupled decaying states, $\dot x_k = −c_k x_k$:
+/// its cycles are the normal form's (the other states zero), with the extra Floquet
+/// multipliers $e^{−c_k T}$. An N-state field with known cycles and spectrum, for the shooting
+/// at the sizes of the vehicle models (odd, so the cycles are symmetric).
+struct Padded<const N: usize> {
+    core: HopfNormalForm,
+}
+
+impl<const N: usize> Padded<N> {
+    fn rate(k: usize) -> f64 {
+        0.3 + 0.05 * k as f64
+    }
+}
+
+impl<const N: usize> VectorField<N> for Padded<N> {
+    fn rhs(&self, x: &SVector<f64, N>, mu: f64) -> SVector<f64, N> {
+        let f = self.core.rhs(&SVector::<f64, 2>::new(x[0], x[1]), mu);
+        SVector::from_fn(|k, _| if k < 2 { f[k] } else { -Self::rate(k) * x[k] })
+    }
+    fn jacobian(&self, x: &SVector<f64, N>, mu: f64) -> nalgebra::SMatrix<f64, N, N> {
+        let j = self.core.jacobian(&SVector::<f64, 2>::new(x[0], x[1]), mu);
+        nalgebra::SMatrix::from_fn(|r, c| match (r, c) {
+            (r, c) if r < 2 && c < 2 => j[(r, c)],
+            (r, c) if r == c => -Self::rate(r),
+            _ => 0.0,
+        })
+    }
+}
+
+/// Multiple shooting (1, 2 and 3 segments, serial and on rayon) on 4-, 12- and 30-state
+/// fields: every cycle on μ = r⁴ − r², the fold at μ = −1/4, the multipliers e^{−c_k T} of
+/// the padding states; rayon changes no bit.
+fn segments_case<const N: usize>() {
+    let field = Padded::<N> {
+        core: HopfNormalForm {
+            omega: 2.0,
+            a: 1.0,
+            b: -1.0,
+        },
+    };
+    let period = PI;
+    for segments in [1, 2, 3] {
+        let mut branches = Vec::new();
+        for parallel in [false, true] {
+            let mut params = ContinuationParams::new((-1.0, 1.0), 1.1, vec![1.0; N + 2]);
+            params.ds_initial = 0.02;
+            params.ds_max = 0.1;
+            let c = Continuation {
+                shooting: Shooting {
+                    field: &field,
+                    symmetric: true,
+                    ode: ode(1e-11),
+                    dp_rel: 1e-6,
+                    parallel,
+                    segments,
+                },
+                params,
+                amplitude: &|_: &OrbitPoint<N>, peaks: &SVector<f64, N>| peaks[0],
+                progress: None,
+                cancel: None,
+            };
+            let start = OrbitPoint {
+                x0: SVector::<f64, N>::zeros(),
+                period,
+                param: 0.0,
+            };
+            let dir = DVector::from_fn(N + 2, |i, _| if i == 0 { 1.0 } else { 0.0 });
+            branches.push(c.run(start, dir));
+        }
+        assert_eq!(branches[0], branches[1], "N {N}, {segments} segments");
+        let b = &branches[0];
+        assert!(b.points.len() > 10, "{:?}", b.stop);
+        for p in &b.points {
+            let r2 = p.amplitude * p.amplitude;
+            assert_relative_eq!(p.orbit.param, r2 * r2 - r2, epsilon = 1e-8);
+            assert_relative_eq!(p.orbit.period, period, max_relative = 1e-9);
+            assert!(
+                p.floquet.trivial_error < 1e-8,
+                "{}",
+                p.floquet.trivial_error
+            );
+            for k in 2..N {
+                let mu = (-Padded::<N>::rate(k) * period).exp();
+                let found = p
+                    .floquet
+                    .multipliers
+                    .iter()
+                    .map(|m| (m.re - mu).abs() + m.im.abs())
+                    .fold(f64::INFINITY, f64::min);
+                assert!(found < 1e-8 * mu.max(1e-3), "N {N} k {k}: {found:e}");
+            }
+        }
+        let folds: Vec<_> = b
+            .special
+            .iter()
+            .filter(|s| s.kind == SpecialKind::Fold)
+            .collect();
+        assert_eq!(folds.len(), 1, "{:?}", b.special);
+        assert_relative_eq!(folds[0].orbit.param, -0.25, max_relative = 1e-7);
+    }
+}
+
+#[test]
+fn multiple_shooting_on_4_12_and_30_states() {
+    segments_case::<4>();
+    segments_case::<12>();
+    segments_case::<30>();
 }

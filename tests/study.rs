@@ -193,3 +193,16 @@ fn a_unit_on_a_pure_number_is_named_as_such() {
     );
     assert!(!e.contains("SI ()"), "{e}");
 }
+
+/// `[bifurcation] segments`: 0 (one per thread) to 64; more is refused naming key and value.
+#[test]
+fn bifurcation_segments_are_checked() {
+    let text = format!("{DEFAULT_STUDY}\n[bifurcation]\nsegments = 2\n");
+    let p = study::parse(&text, "test").expect("valid");
+    assert_eq!(p.bifurcation_options().segments, 2);
+    let e = error_of(&format!("{DEFAULT_STUDY}\n[bifurcation]\nsegments = 65\n"));
+    assert!(
+        e.contains("bifurcation.segments") && e.contains("65"),
+        "{e}"
+    );
+}

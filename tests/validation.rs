@@ -17,6 +17,8 @@ use critspeed::study;
 mod common;
 use common::{reference, root};
 
+#[path = "validation_sections/auto07p.rs"]
+mod auto07p_section;
 #[path = "validation_sections/closed.rs"]
 mod closed_sections;
 #[path = "validation/dtu_wheel.rs"]
@@ -241,7 +243,8 @@ fn report() -> String {
     table_sections::table_geometry_section(&mut s);
     table_sections::dtu_wheelset_section(&mut s);
     profiles_section::section(&mut s);
-    s.push_str("## 8. Not yet compared\n\nA published wheelset or bogie stability result with its linear and nonlinear critical speeds: none was found for a single wheelset (section 6); Cooperrider's bogie, as used by Kaas-Petersen and True, is a bogie, and this tool models one wheelset.\n");
+    auto07p_section::section(&mut s);
+    s.push_str("## 9. Not yet compared\n\nA published wheelset or bogie stability result with its linear and nonlinear critical speeds: none was found for a single wheelset (section 6); Cooperrider's bogie, as used by Kaas-Petersen and True, is a bogie, and this tool models one wheelset.\n");
     s
 }
 

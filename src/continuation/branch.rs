@@ -11,7 +11,7 @@
 
 use nalgebra::{DMatrix, DVector, SVector};
 
-use super::orbit::{solve_dense, Floquet, NewtonStop, OrbitPoint, Shooting};
+use super::orbit::{solve_dense, Floquet, NewtonStop, OrbitPoint, SegmentSeed, Shooting};
 use crate::system::ode::VectorField;
 
 /// Continuation settings. Defaults are for orbits scaled to O(1) by `scale`.
@@ -87,10 +87,15 @@ pub struct BranchPoint<const N: usize> {
     pub floquet: Floquet,
     /// the caller's amplitude measure
     pub amplitude: f64,
+    /// the largest |x_k| over the orbit, per component (from the last Newton iteration's
+    /// integration, one update of at most `newton_tol` away)
+    pub peaks: SVector<f64, N>,
     /// unit tangent (scaled)
     pub tangent: DVector<f64>,
     /// Newton iterations used
     pub newton_iterations: usize,
+    /// the shooting segments of the last linearisation (interior starts for the next solve)
+    pub seed: SegmentSeed<N>,
 }
 
 /// Kinds of special points on a branch of cycles.
@@ -150,8 +155,10 @@ pub struct Branch<const N: usize> {
 struct Corrected<const N: usize> {
     orbit: OrbitPoint<N>,
     floquet: Floquet,
+    peaks: SVector<f64, N>,
     tangent: DVector<f64>,
     iterations: usize,
+    seed: SegmentSeed<N>,
 }
 
 fn pack<const N: usize>(z: &OrbitPoint<N>) -> DVector<f64> {
@@ -176,8 +183,9 @@ pub struct Continuation<'a, const N: usize, F: VectorField<N>> {
     pub shooting: Shooting<'a, N, F>,
     /// settings
     pub params: ContinuationParams,
-    /// the amplitude of an orbit (e.g. max |y| over a period)
-    pub amplitude: &'a (dyn Fn(&OrbitPoint<N>) -> f64 + Sync),
+    /// the amplitude of an orbit (e.g. max |y| over a period), given the orbit and the largest
+    /// |x_k| per component over it (located on the shooting integration's dense output)
+    pub amplitude: &'a (dyn Fn(&OrbitPoint<N>, &SVector<f64, N>) -> f64 + Sync),
     /// called with each accepted orbit (progress reporting); `None` for silence
     pub progress: Option<&'a (dyn Fn(&BranchPoint<N>) + Sync)>,
     /// asked before each step whether to stop (`true`: the branch ends with
@@ -192,21 +200,25 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         })
     }
 
-    /// Newton from the prediction `zp` with the arclength row `tangent` (scaled).
+    /// Newton from the prediction `zp` with the arclength row `tangent` (scaled); `seed`: the
+    /// segments of a nearby orbit's linearisation (interior shooting starts).
     fn correct(
         &self,
         zp: &DVector<f64>,
         tangent: &DVector<f64>,
+        seed: Option<&SegmentSeed<N>>,
     ) -> Result<Corrected<N>, NewtonStop> {
         let s = self.scale();
         let xr: SVector<f64, N> = SVector::from_fn(|i, _| zp[i]);
         let fr = self.shooting.field.rhs(&xr, zp[N + 1]);
         let mut z = zp.clone();
+        let mut last_seed = seed.cloned();
         for it in 1..=self.params.newton_max_iter {
             let lin = self
                 .shooting
-                .linearise(&unpack::<N>(&z))
+                .linearise_from(&unpack::<N>(&z), last_seed.as_ref())
                 .map_err(|_| NewtonStop::Diverged)?;
+            last_seed = Some(lin.seed.clone());
             let mut a = DMatrix::zeros(N + 2, N + 2);
             a.view_mut((0, 0), (N, N + 2)).copy_from(&lin.jacobian);
             let mut b = DVector::zeros(N + 2);
@@ -250,8 +262,10 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 return Ok(Corrected {
                     orbit: unpack(&z),
                     floquet: Floquet::from_monodromy(&lin.monodromy, self.shooting.symmetric),
+                    peaks: lin.peaks,
                     tangent: t,
                     iterations: it,
+                    seed: lin.seed,
                 });
             }
         }
@@ -266,7 +280,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
     ) -> Result<(OrbitPoint<N>, Floquet, usize), NewtonStop> {
         let mut pin = DVector::zeros(N + 2);
         pin[N + 1] = 1.0;
-        let c = self.correct(&pack(&guess), &pin)?;
+        let c = self.correct(&pack(&guess), &pin, None)?;
         Ok((c.orbit, c.floquet, c.iterations))
     }
 
@@ -285,6 +299,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         let mut points: Vec<BranchPoint<N>> = Vec::new();
         let mut special = Vec::new();
         let mut last_failure = NewtonStop::Converged;
+        let mut seed: Option<SegmentSeed<N>> = None;
         let stop = loop {
             if self.cancel.is_some_and(|c| c()) {
                 break BranchStop::Cancelled;
@@ -299,7 +314,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 };
             }
             let zp = self.predict(&z, &tangent, ds);
-            let c = match self.correct(&zp, &tangent) {
+            let c = match self.correct(&zp, &tangent, seed.as_ref()) {
                 Ok(c) if c.tangent.dot(&tangent) >= p.max_angle.cos() || points.is_empty() => c,
                 Ok(_) => {
                     ds *= 0.5;
@@ -311,13 +326,15 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                     continue;
                 }
             };
-            let amplitude = (self.amplitude)(&c.orbit);
+            let amplitude = (self.amplitude)(&c.orbit, &c.peaks);
             let point = BranchPoint {
                 orbit: c.orbit,
                 floquet: c.floquet,
                 amplitude,
+                peaks: c.peaks,
                 tangent: c.tangent.clone(),
                 newton_iterations: c.iterations,
+                seed: c.seed.clone(),
             };
             if let Some(prev) = points.last() {
                 self.detect(prev, &point, points.len() - 1, ds, &mut special);
@@ -329,6 +346,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             points.push(point);
             z = pack(&c.orbit);
             tangent = c.tangent;
+            seed = Some(c.seed);
             // Step control: aim at the target iteration count. Newton from a good predictor
             // often takes the same count over a wide range of steps, so at the target the step
             // still grows a little; the angle guard and ds_max bound it.
@@ -391,13 +409,15 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         let za = pack(&a.orbit);
         let eval = |s: f64| {
             let zp = self.predict(&za, &a.tangent, s);
-            self.correct(&zp, &a.tangent).ok()
+            self.correct(&zp, &a.tangent, Some(&a.seed)).ok()
         };
         let a_c = Corrected {
             orbit: a.orbit,
             floquet: a.floquet.clone(),
+            peaks: a.peaks,
             tangent: a.tangent.clone(),
             iterations: 0,
+            seed: a.seed.clone(),
         };
         let (mut lo, mut glo) = (0.0, g(&a_c));
         let Some(end) = eval(ds) else {
@@ -437,7 +457,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         SpecialPoint {
             kind,
             after: index,
-            amplitude: (self.amplitude)(&best.orbit),
+            amplitude: (self.amplitude)(&best.orbit, &best.peaks),
             orbit: best.orbit,
             located: bracket <= self.params.locate_tol * ds.max(1.0),
             bracket,

@@ -10,4 +10,4 @@ pub mod orbit;
 pub use branch::{
     Branch, BranchPoint, BranchStop, Continuation, ContinuationParams, SpecialKind, SpecialPoint,
 };
-pub use orbit::{Floquet, NewtonStop, OrbitPoint, Shooting};
+pub use orbit::{Floquet, NewtonStop, OrbitPoint, SegmentSeed, Shooting};

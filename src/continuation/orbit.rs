@@ -13,10 +13,19 @@
 
 use nalgebra::{Complex, DMatrix, DVector, SMatrix, SVector};
 
-use crate::system::ode::{integrate, OdeError, OdeOptions, VectorField};
+use crate::system::ode::{integrate, integrate_with_peaks, OdeError, OdeOptions, VectorField};
 
-/// The shooting problem: a vector field, whether to use the symmetric half-period form, and
-/// the integrator options.
+/// The shooting problem: a vector field, whether to use the symmetric half-period form, the
+/// number of segments, and the integrator options.
+///
+/// **Segments.** With `segments = m > 1` the shooting interval is cut into `m` equal pieces
+/// (multiple shooting): each piece starts from its own state $x_i$ and is integrated
+/// independently (with its monodromy $Φ_i$ and parameter difference), so the pieces run on
+/// rayon threads. The interior unknowns are condensed out — $δx_{i+1} = Φ_iδx_i + g_iδT +
+/// q_iδp + (e_i − x_{i+1})$ — so the caller still sees the $N × (N + 2)$ residual and Jacobian
+/// of single shooting in $(x_0, T, p)$, with the monodromy $Φ_{m−1}\cdotsΦ_0$. The interior
+/// starts of the next linearisation are the Newton-updated ones, from the previous
+/// linearisation's [`SegmentSeed`] (at a fresh start they are integrated from $x_0$).
 pub struct Shooting<'a, const N: usize, F: VectorField<N>> {
     /// the vector field
     pub field: &'a F,
@@ -24,18 +33,27 @@ pub struct Shooting<'a, const N: usize, F: VectorField<N>> {
     pub symmetric: bool,
     /// integrator options (tolerances); the monodromy flag is set internally
     pub ode: OdeOptions,
-    /// run the two independent integrations of each Newton step (flow with monodromy, and
-    /// the parameter perturbation) on two rayon threads; the results are bitwise identical
-    /// to the serial run because the two are pure and independent
+    /// run the independent integrations of each Newton step (per segment: the flow with its
+    /// monodromy, and the parameter perturbation) on rayon threads; the results are bitwise
+    /// identical to the serial run because the integrations are pure and independent
     pub parallel: bool,
     /// relative step of the one-sided difference for ∂φ/∂p; about √rtol balances truncation
     /// against integration noise. Its error only affects the Newton rate and the predictor,
     /// never the converged orbits, nor the folds (where the (x0, T) block is singular).
     pub dp_rel: f64,
+    /// shooting segments m >= 1 (1: single shooting); each is one independent piece of work
+    pub segments: usize,
 }
 
-/// End state, monodromy (when asked for) and integrator steps of one flow evaluation.
-type Flowed<const N: usize> = (SVector<f64, N>, Option<SMatrix<f64, N, N>>, usize);
+/// One flow evaluation: end state, monodromy (when asked for), integrator steps, the largest
+/// |x_k| over the interval, and the first accepted step size.
+struct Flowed<const N: usize> {
+    end: SVector<f64, N>,
+    phi: Option<SMatrix<f64, N, N>>,
+    steps: usize,
+    peaks: SVector<f64, N>,
+    h_first: f64,
+}
 
 /// One point of an orbit computation: the start, period and parameter.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,18 +66,63 @@ pub struct OrbitPoint<const N: usize> {
     pub param: f64,
 }
 
+/// One segment of a linearisation: its start, end, monodromy and the end's derivatives in
+/// T and p.
+#[derive(Clone, Debug, PartialEq)]
+struct Segment<const N: usize> {
+    start: SVector<f64, N>,
+    end: SVector<f64, N>,
+    phi: SMatrix<f64, N, N>,
+    d_t: SVector<f64, N>,
+    d_p: SVector<f64, N>,
+    /// first accepted steps of the flow and of the shifted flow (the next trial steps)
+    h_first: (f64, f64),
+}
+
+/// What a multiple-shooting linearisation at `z` knows of its segments: the interior starts
+/// of a linearisation at a nearby `z'` follow from it by the Newton update of the condensed
+/// unknowns, $x_{i+1}' = e_i + Φ_i(x_i' − x_i) + g_i(T' − T) + q_i(p' − p)$.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SegmentSeed<const N: usize> {
+    z: OrbitPoint<N>,
+    segments: Vec<Segment<N>>,
+}
+
+impl<const N: usize> SegmentSeed<N> {
+    fn starts(&self, z: &OrbitPoint<N>) -> Vec<SVector<f64, N>> {
+        let (dt, dp) = (z.period - self.z.period, z.param - self.z.param);
+        let mut out = vec![z.x0];
+        for (i, prev) in self
+            .segments
+            .iter()
+            .enumerate()
+            .take(self.segments.len() - 1)
+        {
+            let dx = out[i] - prev.start;
+            out.push(prev.end + prev.phi * dx + prev.d_t * dt + prev.d_p * dp);
+        }
+        out
+    }
+}
+
 /// The residual and its Jacobian with respect to (x0, T, p), as an N × (N + 2) matrix.
 pub struct Linearised<const N: usize> {
-    /// $G(x_0, T, p)$
+    /// $G(x_0, T, p)$ (condensed over the segments)
     pub residual: SVector<f64, N>,
     /// $[∂G/∂x_0 \;|\; ∂G/∂T \;|\; ∂G/∂p]$
     pub jacobian: DMatrix<f64>,
-    /// the (half-period when symmetric) monodromy $Φ$
+    /// the (half-period when symmetric) monodromy $Φ$, the product over the segments
     pub monodromy: SMatrix<f64, N, N>,
     /// state at the end of the shooting interval
     pub end: SVector<f64, N>,
-    /// integrator steps used
+    /// integrator steps used (all segments)
     pub steps: usize,
+    /// the largest $|x_k|$ over the shooting interval, per component (located on the
+    /// integrator's continuous extension); for a symmetric orbit the half period holds the
+    /// maximum over the whole period
+    pub peaks: SVector<f64, N>,
+    /// the segments, for the interior starts of the next linearisation
+    pub seed: SegmentSeed<N>,
 }
 
 impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
@@ -71,19 +134,37 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
         }
     }
 
+    fn count(&self) -> usize {
+        self.segments.max(1)
+    }
+
     fn flow(
         &self,
         x0: &SVector<f64, N>,
-        period: f64,
+        span: f64,
         p: f64,
         monodromy: bool,
+        h_initial: f64,
     ) -> Result<Flowed<N>, OdeError> {
         let opts = OdeOptions {
             monodromy,
+            h_initial: (h_initial.is_finite() && h_initial > 0.0)
+                .then_some(h_initial)
+                .or(self.ode.h_initial),
             ..self.ode
         };
-        let s = integrate(self.field, p, x0, self.horizon(period), &opts)?;
-        Ok((s.x, s.monodromy, s.stats.steps))
+        let (s, peaks) = if monodromy {
+            integrate_with_peaks(self.field, p, x0, span, &opts)?
+        } else {
+            (integrate(self.field, p, x0, span, &opts)?, SVector::zeros())
+        };
+        Ok(Flowed {
+            end: s.x,
+            phi: s.monodromy,
+            steps: s.stats.steps,
+            peaks,
+            h_first: s.h_first,
+        })
     }
 
     fn residual_of(&self, x0: &SVector<f64, N>, end: &SVector<f64, N>) -> SVector<f64, N> {
@@ -94,27 +175,89 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
         }
     }
 
-    /// The shooting residual and its Jacobian at `z`.
+    /// The shooting residual and its Jacobian at `z`; interior segment starts (if
+    /// `segments > 1`) are integrated from $x_0$.
     pub fn linearise(&self, z: &OrbitPoint<N>) -> Result<Linearised<N>, OdeError> {
+        self.linearise_from(z, None)
+    }
+
+    /// As [`linearise`](Self::linearise), with the interior segment starts from `seed` (a
+    /// previous linearisation nearby) when it has this problem's segment count.
+    pub fn linearise_from(
+        &self,
+        z: &OrbitPoint<N>,
+        seed: Option<&SegmentSeed<N>>,
+    ) -> Result<Linearised<N>, OdeError> {
+        let m = self.count();
+        let span = self.horizon(z.period) / m as f64;
+        let seed = seed.filter(|s| s.segments.len() == m);
+        let starts = match seed {
+            Some(s) => s.starts(z),
+            None => {
+                let mut v = vec![z.x0];
+                for i in 1..m {
+                    v.push(self.flow(&v[i - 1], span, z.param, false, f64::NAN)?.end);
+                }
+                v
+            }
+        };
+        // the previous linearisation's first steps: no step-size search at each restart
+        let h0: Vec<(f64, f64)> = (0..m)
+            .map(|i| seed.map_or((f64::NAN, f64::NAN), |s| s.segments[i].h_first))
+            .collect();
         // ∂φ/∂p by a one-sided difference: the integrator has no parameter sensitivities, and
         // one extra integration instead of two is worth the O(h) error in a Newton column
         // (it changes the convergence rate slightly, not the converged orbit).
         let h = self.dp_rel * z.param.abs().max(1.0);
-        let main = || self.flow(&z.x0, z.period, z.param, true);
-        let shifted = || self.flow(&z.x0, z.period, z.param + h, false);
-        let (a, b) = if self.parallel {
-            rayon::join(main, shifted)
-        } else {
-            (main(), shifted())
+        let piece = |(x, h0): (&SVector<f64, N>, &(f64, f64))| {
+            let main = || self.flow(x, span, z.param, true, h0.0);
+            let shifted = || self.flow(x, span, z.param + h, false, h0.1);
+            if self.parallel {
+                rayon::join(main, shifted)
+            } else {
+                (main(), shifted())
+            }
         };
-        let (end, phi, steps) = a?;
-        let (plus, _, _) = b?;
-        let phi = phi.ok_or(OdeError::NonFinite { t: 0.0 })?;
+        let flows: Vec<_> = if self.parallel && m > 1 {
+            use rayon::prelude::*;
+            starts.par_iter().zip(h0.par_iter()).map(piece).collect()
+        } else {
+            starts.iter().zip(h0.iter()).map(piece).collect()
+        };
+        let dtau = self.horizon(1.0) / m as f64;
+        let mut segments = Vec::with_capacity(m);
+        let (mut steps, mut peaks) = (0, SVector::<f64, N>::zeros());
+        for (start, (a, b)) in starts.iter().zip(flows) {
+            let (a, b) = (a?, b?);
+            let phi = a.phi.ok_or(OdeError::NonFinite { t: 0.0 })?;
+            steps += a.steps;
+            peaks = peaks.sup(&a.peaks);
+            segments.push(Segment {
+                start: *start,
+                end: a.end,
+                phi,
+                d_t: self.field.rhs(&a.end, z.param) * dtau,
+                d_p: (b.end - a.end) / h,
+                h_first: (a.h_first, b.h_first),
+            });
+        }
+        // δx_i = A δx0 + G δT + Q δp + C, condensed segment by segment
+        let mut a = SMatrix::<f64, N, N>::identity();
+        let (mut g, mut q, mut c) = (SVector::zeros(), SVector::zeros(), SVector::zeros());
+        for (i, s) in segments.iter().enumerate().take(m - 1) {
+            a = s.phi * a;
+            g = s.phi * g + s.d_t;
+            q = s.phi * q + s.d_p;
+            c = s.phi * c + (s.end - segments[i + 1].start);
+        }
+        let last = &segments[m - 1];
+        let monodromy = last.phi * a;
+        let end = last.end + last.phi * c;
         let residual = self.residual_of(&z.x0, &end);
         let sign = if self.symmetric { 1.0 } else { -1.0 };
-        let d_x0 = phi + SMatrix::<f64, N, N>::identity() * sign;
-        let d_t = self.field.rhs(&end, z.param) * (self.horizon(1.0));
-        let d_p = (plus - end) / h;
+        let d_x0 = monodromy + SMatrix::<f64, N, N>::identity() * sign;
+        let d_t = last.phi * g + last.d_t;
+        let d_p = last.phi * q + last.d_p;
         let mut jacobian = DMatrix::zeros(N, N + 2);
         jacobian.view_mut((0, 0), (N, N)).copy_from(&d_x0);
         jacobian.view_mut((0, N), (N, 1)).copy_from(&d_t);
@@ -122,9 +265,11 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
         Ok(Linearised {
             residual,
             jacobian,
-            monodromy: phi,
+            monodromy,
             end,
             steps,
+            peaks,
+            seed: SegmentSeed { z: *z, segments },
         })
     }
 }

@@ -216,6 +216,11 @@ impl crate::system::ode::VectorField<4> for Wheelset {
     fn jacobian(&self, x: &Vector4<f64>, v: f64) -> Matrix4<f64> {
         Wheelset::jacobian(self, x, v).0
     }
+    /// One dual-number evaluation gives both (the value is the duals' real part).
+    fn rhs_jacobian(&self, x: &Vector4<f64>, v: f64) -> (Vector4<f64>, Matrix4<f64>) {
+        let (j, f) = Wheelset::jacobian(self, x, v);
+        (f, j)
+    }
     fn switch_count(&self) -> usize {
         if self.flange.is_some() {
             2

@@ -366,6 +366,16 @@ fn bifurcation_plan(
         }
         o.max_points = n;
     }
+    if let Some(n) = b.segments {
+        if n > 64 {
+            return Err(rule(
+                "bifurcation.segments",
+                n,
+                "must lie in [0, 64] (0: one per thread)",
+            ));
+        }
+        o.segments = n;
+    }
     Ok(o)
 }
 

@@ -249,6 +249,9 @@ pub struct BifurcationSection {
     pub ds_max: Option<f64>,
     #[serde(default)]
     pub max_points: Option<usize>,
+    /// shooting segments of the half period (0: one per thread when parallel)
+    #[serde(default)]
+    pub segments: Option<usize>,
 }
 
 /// `[sweep]`: a grid over one or two numeric study keys.

@@ -69,6 +69,7 @@ where
     }
     .min(opts.h_max);
     let (mut after_reject, mut non_finite, mut hooked) = (false, false, false);
+    let mut h_first = f64::NAN;
     let stop = if !finite(&cur) {
         StopReason::NonFinite
     } else {
@@ -111,6 +112,9 @@ where
                 stats.rejected += 1;
                 continue;
             }
+            if stats.steps == 0 {
+                h_first = trial.end.t - cur.t;
+            }
             stats.steps += 1;
             stats.events += switches.commit(field, &trial.end.x);
             // A step shortened to a surface keeps the h of the step it was cut from: its
@@ -136,6 +140,7 @@ where
         monodromy,
         stats,
         stop,
+        h_first,
     };
     Ok(Run { sol, h, hooked })
 }
@@ -181,6 +186,24 @@ pub fn integrate_partial<const N: usize, F: VectorField<N>>(
     opts: &OdeOptions,
 ) -> Result<Solution<N>, OdeError> {
     Ok(run(f, p, x0, t_end, opts, |_, _, _| ControlFlow::Continue(()))?.sol)
+}
+
+/// As [`integrate`], and also the largest $|x_k(t)|$ of each component over $[0, t_{end}]$,
+/// located on each step's continuous extension (see `Dense::abs_max`): the amplitudes of a
+/// periodic orbit come with the shooting integration instead of costing one more.
+pub fn integrate_with_peaks<const N: usize, F: VectorField<N>>(
+    f: &F,
+    p: f64,
+    x0: &SVector<f64, N>,
+    t_end: f64,
+    opts: &OdeOptions,
+) -> Result<(Solution<N>, SVector<f64, N>), OdeError> {
+    let mut peaks = x0.abs();
+    let run = run(f, p, x0, t_end, opts, |_, start, trial| {
+        peaks = peaks.sup(&Dense::new(start, trial).abs_max());
+        ControlFlow::Continue(())
+    })?;
+    Ok((checked(run)?, peaks))
 }
 
 /// As [`integrate`], calling `observer(t, &x)` at each sample time (sorted ascending, within

@@ -9,9 +9,10 @@
 //! **Monodromy.** With [`OdeOptions::monodromy`] the variational equations
 //! $\dot\Phi = J(x(t))\,\Phi$, $\Phi(0) = I$, are integrated with the *same* stages as $x$
 //! ($J$ evaluated at each stage's $x$): this is the exact derivative of the discrete flow, and
-//! $\Phi$ is in the error test (the max of the state's and $\Phi$'s scaled RMS norms, each
-//! relative to the magnitude of its own entries), so $\Phi(t) = \partial x(t)/\partial x_0$ is
-//! as accurate as $x$.
+//! $\Phi$ is in the error test (the max of the state's scaled RMS norm and $\Phi$'s, each entry
+//! of $\Phi$ relative to the largest entry of its column: a column is the response to one
+//! initial perturbation, and needs to be accurate relative to its size), so
+//! $\Phi(t) = \partial x(t)/\partial x_0$ is as accurate as $x$.
 //!
 //! **Switching surfaces.** A field may declare functions $g_k(x)$ across which it is not
 //! smooth. No accepted step straddles one: a trial step that crosses is replaced by a
@@ -43,7 +44,9 @@ mod tests_events;
 
 use nalgebra::{SMatrix, SVector};
 
-pub use driver::{integrate, integrate_observed, integrate_partial, integrate_to_section};
+pub use driver::{
+    integrate, integrate_observed, integrate_partial, integrate_to_section, integrate_with_peaks,
+};
 
 /// An autonomous vector field $\dot x = f(x; p)$ with its exact Jacobian.
 pub trait VectorField<const N: usize>: Sync {
@@ -51,6 +54,12 @@ pub trait VectorField<const N: usize>: Sync {
     fn rhs(&self, x: &SVector<f64, N>, p: f64) -> SVector<f64, N>;
     /// The exact Jacobian $\partial f / \partial x$ at $(x; p)$.
     fn jacobian(&self, x: &SVector<f64, N>, p: f64) -> SMatrix<f64, N, N>;
+    /// $f$ and $J$ together (what each stage of the variational equations needs). The default
+    /// calls [`rhs`](Self::rhs) and [`jacobian`](Self::jacobian); a field whose Jacobian comes
+    /// with its value (forward-mode dual numbers) overrides it to evaluate the model once.
+    fn rhs_jacobian(&self, x: &SVector<f64, N>, p: f64) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
+        (self.rhs(x, p), self.jacobian(x, p))
+    }
     /// Number of switching functions (surfaces where $f$ is not smooth); default 0.
     fn switch_count(&self) -> usize {
         0
@@ -199,6 +208,9 @@ pub struct Solution<const N: usize> {
     pub monodromy: Option<SMatrix<f64, N, N>>,
     pub stats: Stats,
     pub stop: StopReason,
+    /// Size of the first accepted step (NaN if none): a good [`OdeOptions::h_initial`] for a
+    /// later integration from nearly the same start (Newton iterations of a shooting method).
+    pub h_first: f64,
 }
 
 /// Why an integration could not be done; each variant carries the numbers to diagnose it.
