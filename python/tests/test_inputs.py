@@ -200,22 +200,37 @@ def test_an_interrupted_sweep_resumes_from_its_records(tmp_path):
         pytest.skip("needs SIGINT on the main thread")
     d = as_dict(SEED_HUNTING)
     d["name"] = "resume"
+    count = 120
     d["sweep"] = {
         "axes": [{"key": "suspension.lateral_stiffness", "from": "200 N/mm",
-                  "to": "800 N/mm", "count": 40}],
+                  "to": "800 N/mm", "count": count}],
         "compute": ["kalker", "hopf", "nonlinear"],
     }
     d["bifurcation"] = {"max_amplitude": "1 mm"}
-    timer = threading.Timer(0.8, lambda: os.kill(os.getpid(), signal.SIGINT))
-    timer.start()
+    records_file = tmp_path / "resume" / "sweep.records.csv"
+    stop = threading.Event()
+
+    def interrupt_after_first_point():
+        # Ctrl-C once the first point is on record, whatever the machine's speed
+        while not stop.is_set():
+            if records_file.exists() and any(
+                l[:1].isdigit() for l in records_file.read_text().splitlines()
+            ):
+                os.kill(os.getpid(), signal.SIGINT)
+                return
+            time.sleep(0.002)
+
+    watcher = threading.Thread(target=interrupt_after_first_point)
+    watcher.start()
     try:
         with pytest.raises(KeyboardInterrupt):
             critspeed.sweep(d, threads=1, out=tmp_path)
     finally:
-        timer.cancel()
-    records = (tmp_path / "resume" / "sweep.records.csv").read_text().splitlines()
+        stop.set()
+        watcher.join()
+    records = records_file.read_text().splitlines()
     done = [l for l in records if l[:1].isdigit()]
-    assert 0 < len(done) < 40
+    assert 0 < len(done) < count
     assert not (tmp_path / "resume" / "sweep.csv").exists()
     whole = critspeed.sweep(d, threads=1, out=tmp_path)
     fresh = critspeed.sweep(d, threads=2)
