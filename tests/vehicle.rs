@@ -404,3 +404,45 @@ fn eigenvalue_scan_equals_the_quartic_scan_on_wheelset_studies() {
     }
     assert!(compared >= 6, "{compared} crossings compared");
 }
+
+/// Regression (the per-column error control of Φ, kept for 4 states): on the 12-state bogie the
+/// continuation stopped at the 150.5 m/s fold with Newton failing. Entry by entry it locates the
+/// three folds of studies/dtu-cooperrider-bogie.toml and reaches the amplitude bound; every
+/// cycle's trivial multiplier is 1 to 1e-5 and the located V_NL is a fold.
+#[test]
+fn bogie_branch_passes_its_folds() {
+    use critspeed::bifurcation::analyse;
+    use critspeed::continuation::SpecialKind;
+    let plan = study::load(&study_path("dtu-cooperrider-bogie.toml")).expect("study");
+    let model = plan.model().expect("model");
+    let r = analyse(&plan.name, &model, &plan.bifurcation_options()).expect("branch");
+    let folds: Vec<_> = r
+        .special
+        .iter()
+        .filter(|s| s.kind == SpecialKind::Fold)
+        .collect();
+    eprintln!(
+        "{} cycles, {}; folds {:?}",
+        r.cycles.len(),
+        r.stop_reason,
+        folds.iter().map(|f| f.speed_m_s).collect::<Vec<_>>()
+    );
+    assert!(
+        r.stop_reason.starts_with("amplitude bound"),
+        "{}",
+        r.stop_reason
+    );
+    assert!(
+        folds.len() >= 3 && folds.iter().all(|f| f.located),
+        "{folds:?}"
+    );
+    assert!(r.cycles.iter().all(|c| c.trivial_multiplier_error < 1e-5));
+    let (v_nl, located) = r.nonlinear_critical_speed.expect("V_NL");
+    assert!(
+        located
+            && folds
+                .iter()
+                .any(|f| (f.speed_m_s - v_nl).abs() < 1e-9 * v_nl)
+    );
+    assert!(r.cycles.iter().all(|c| c.body_amplitudes.len() == 3));
+}
