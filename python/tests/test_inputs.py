@@ -2,6 +2,7 @@
 the GIL and Ctrl-C."""
 
 import os
+from pathlib import Path
 import signal
 import subprocess
 import sys
@@ -147,11 +148,14 @@ def test_long_calls_release_the_gil():
             ticks.append(time.perf_counter())
             time.sleep(0.001)
 
+    # small continuation steps, so that the call lasts long enough to tell (about a second;
+    # at the default steps seed-hunting's branch takes under 0.1 s)
+    slow = Path(SEED_HUNTING).read_text() + "\n[bifurcation]\nds_max = 0.05\n"
     t = threading.Thread(target=tick)
     t.start()
     try:
         start = time.perf_counter()
-        critspeed.bifurcation(SEED_HUNTING)
+        critspeed.bifurcation(slow)
         end = time.perf_counter()
     finally:
         stop.set()
