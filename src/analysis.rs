@@ -141,15 +141,7 @@ fn modes<const N: usize>(
     found
         .crossings
         .iter()
-        .map(|c: &Crossing| {
-            let sp = spectrum_at(&sys.jacobian(c.speed_m_s), c.speed_m_s)?;
-            let omega = 2.0 * std::f64::consts::PI * c.frequency_hz;
-            let pair = sp.pairs.iter().min_by(|a, b| {
-                a.re.hypot(a.im - omega)
-                    .total_cmp(&b.re.hypot(b.im - omega))
-            })?;
-            mode_shape(vehicle, &pair.vector)
-        })
+        .map(|c: &Crossing| mode_shape(vehicle, &c.eigenpair(sys)?.vector))
         .collect()
 }
 

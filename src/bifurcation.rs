@@ -13,7 +13,7 @@ use crate::contact::creep::CreepLaw;
 use crate::continuation::{
     Branch, BranchStop, Continuation, ContinuationParams, OrbitPoint, Shooting, SpecialKind,
 };
-use crate::stability::{critical_speeds, spectrum_at, Crossing, LinearOptions, LinearSystem};
+use crate::stability::{critical_speeds, Crossing, LinearOptions, LinearSystem};
 use crate::system::ode::{OdeOptions, Tolerances};
 
 /// Options of the bifurcation analysis (study section `[bifurcation]`).
@@ -230,12 +230,7 @@ fn hopf_point<const N: usize>(
     };
     let found = critical_speeds(&sys, model.creep_law(), &opts).ok()?;
     let c = *found.critical()?;
-    let sp = spectrum_at(&sys.jacobian(c.speed_m_s), c.speed_m_s)?;
-    let omega = 2.0 * std::f64::consts::PI * c.frequency_hz;
-    let pair = sp.pairs.iter().min_by(|a, b| {
-        a.re.hypot(a.im - omega)
-            .total_cmp(&b.re.hypot(b.im - omega))
-    })?;
+    let pair = c.eigenpair(&sys)?;
     let q: Vec<nalgebra::Complex<f64>> = pair
         .vector
         .iter()

@@ -160,6 +160,19 @@ pub struct Crossing {
     pub bracket_m_s: f64,
 }
 
+impl Crossing {
+    /// The eigenpair of $J(V)$ that crossed, at the crossing speed: the eigenvalue nearest
+    /// $iω$ with its right eigenvector (`None` if the eigen-decomposition fails).
+    pub fn eigenpair<const N: usize>(&self, sys: &LinearSystem<N>) -> Option<EigenPair> {
+        let sp = spectrum_at(&sys.jacobian(self.speed_m_s), self.speed_m_s)?;
+        let omega = 2.0 * std::f64::consts::PI * self.frequency_hz;
+        sp.pairs.into_iter().min_by(|a, b| {
+            a.re.hypot(a.im - omega)
+                .total_cmp(&b.re.hypot(b.im - omega))
+        })
+    }
+}
+
 /// Options of the critical-speed search.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LinearOptions {
