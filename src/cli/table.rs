@@ -294,7 +294,7 @@ pub fn plan(p: &Plan) -> String {
     }
     let (lo, hi) = p.linear.speed_range;
     line("linear.speed_range", format!("[{lo}, {hi}] m/s"));
-    line("linear.grid_points", format!("{}", p.linear.grid_points));
+    line("linear.grid_points", format!("{}", p.grid_points()));
     line("linear.spectrum_points", format!("{}", p.spectrum_points));
     s
 }

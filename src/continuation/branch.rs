@@ -436,7 +436,15 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             } else {
                 0.5 * (lo + hi)
             };
-            let Some(c) = eval(s) else { break };
+            // a corrector that fails at the secant point may converge at the bisection
+            // point (near a fold the secant point can sit where the predictor is poor)
+            let mid = 0.5 * (lo + hi);
+            let Some((s, c)) = eval(s)
+                .map(|c| (s, c))
+                .or_else(|| (s != mid).then(|| eval(mid).map(|c| (mid, c))).flatten())
+            else {
+                break;
+            };
             let gs = g(&c);
             if gs.signum() == glo.signum() {
                 (lo, glo) = (s, gs);

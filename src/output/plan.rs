@@ -93,7 +93,7 @@ pub fn plan_json(p: &Plan) -> Value {
         "contact": contact_json(p),
         "linear": {
             "speed_range": [p.linear.speed_range.0, p.linear.speed_range.1],
-            "grid_points": p.linear.grid_points,
+            "grid_points": p.grid_points(),
             "spectrum_points": p.spectrum_points,
         },
     });

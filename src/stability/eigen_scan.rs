@@ -1,8 +1,10 @@
 //! The critical-speed search for any number of states: eigenvalues on a grid, then Brent's
 //! method on the real part of the eigenvalue that crossed (module docs of [`super`]).
 
-use super::spectrum::{determinant, eigenvalues};
-use super::{brent, CriticalSpeeds, Crossing, Direction, LinearError, LinearOptions, LinearSystem};
+use super::spectrum::{determinant, eigenvalues, spectrum_at, EigenPair};
+use super::{
+    brent, hopf, CriticalSpeeds, Crossing, Direction, LinearError, LinearOptions, LinearSystem,
+};
 use crate::contact::creep::CreepLaw;
 
 /// The eigenvalue of `ev` (Im > 0) nearest to `target`.
@@ -18,12 +20,42 @@ fn unstable(ev: &[(f64, f64)]) -> usize {
     ev.iter().filter(|z| z.1 > 0.0 && z.0 > 0.0).count()
 }
 
-/// One end of a scan interval: speed, eigenvalues, unstable count.
+/// The largest real part of the complex eigenvalues (Im > 0); −∞ if there are none.
+fn top(ev: &[(f64, f64)]) -> f64 {
+    ev.iter()
+        .filter(|z| z.1 > 0.0)
+        .map(|z| z.0)
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// The complex eigenvalues (Im > 0) of either end that are unstable there and whose nearest
+/// complex eigenvalue at the other end is stable: pairs that crossed the axis between the
+/// ends even when another pair crossing the other way leaves the unstable count unchanged.
+fn exchanged(lo: &End, hi: &End) -> usize {
+    let dist = |a: &(f64, f64), b: &(f64, f64)| (a.0 - b.0).hypot(a.1 - b.1);
+    let one_way = |from: &End, to: &End| {
+        from.ev
+            .iter()
+            .filter(|z| z.1 > 0.0 && z.0 > 0.0)
+            .filter(|z| {
+                to.ev
+                    .iter()
+                    .filter(|w| w.1 > 0.0)
+                    .min_by(|a, b| dist(a, z).total_cmp(&dist(b, z)))
+                    .is_some_and(|w| w.0 <= 0.0)
+            })
+            .count()
+    };
+    one_way(lo, hi) + one_way(hi, lo)
+}
+
+/// One end of a scan interval: speed, eigenvalues, unstable count, least damped real part.
 #[derive(Clone)]
 struct End {
     v: f64,
     ev: Vec<(f64, f64)>,
     count: usize,
+    top: f64,
 }
 
 struct Scan<'a, const N: usize> {
@@ -41,8 +73,78 @@ impl<const N: usize> Scan<'_, N> {
         Ok(End {
             v,
             count: unstable(&ev),
+            top: top(&ev),
             ev,
         })
+    }
+
+    /// The crossings between `lo` and `hi` by Newton on the Hopf system ([`hopf::newton`])
+    /// from the complex eigenpairs nearest the axis at the interval's midpoint (as many as the
+    /// count changed, and two more); each root is re-checked by fresh eigenvalues 1e-6 V
+    /// either side, which also give its direction. `false` (nothing recorded) unless the
+    /// roots' directions add up to the change of the unstable count, and there are roots:
+    /// then the caller falls back to bisection. `exchanged` ([`exchanged`]) widens the search
+    /// when pairs crossed in both directions.
+    fn by_newton(&mut self, lo: &End, hi: &End, exchanged: usize) -> bool {
+        let change = hi.count as i64 - lo.count as i64;
+        let sys = self.sys;
+        let mid = 0.5 * (lo.v + hi.v);
+        self.evaluations += 1;
+        let Some(sp) = spectrum_at(&sys.jacobian(mid), mid) else {
+            return false;
+        };
+        let mut candidates: Vec<&EigenPair> = sp.pairs.iter().filter(|p| p.im > 0.0).collect();
+        candidates.sort_by(|p, q| p.re.abs().total_cmp(&q.re.abs()));
+        let tol = self.opts.rel_tol.max(1e-14);
+        let mut found: Vec<Crossing> = Vec::new();
+        let wanted = (change.unsigned_abs() as usize).max(exchanged) + 2;
+        for p in candidates.iter().take(wanted) {
+            let Some(h) = hopf::newton(sys, mid, p.im, &p.vector, tol) else {
+                continue;
+            };
+            let f_hz = h.omega / (2.0 * std::f64::consts::PI);
+            let seen = found.iter().any(|c| {
+                (c.speed_m_s - h.speed).abs() <= 1e-9 * h.speed
+                    && (c.frequency_hz - f_hz).abs() <= 1e-6 * f_hz
+            });
+            if seen || h.speed < lo.v || h.speed > hi.v {
+                continue;
+            }
+            let delta = 1e-6 * h.speed;
+            let side = |v: f64| {
+                eigenvalues(&sys.jacobian(v))
+                    .and_then(|ev| nearest(&ev, (0.0, h.omega)))
+                    .map_or(f64::NAN, |z| z.0)
+            };
+            let (below, above) = (side(h.speed - delta), side(h.speed + delta));
+            self.evaluations += 2;
+            if below.is_nan() || above.is_nan() || below.signum() == above.signum() {
+                continue;
+            }
+            found.push(Crossing {
+                speed_m_s: h.speed,
+                frequency_hz: f_hz,
+                wavelength_m: h.speed / f_hz,
+                direction: if above > 0.0 {
+                    Direction::Onset
+                } else {
+                    Direction::Recovery
+                },
+                bracket_m_s: 2.0 * h.last_step,
+            });
+        }
+        let net: i64 = found
+            .iter()
+            .map(|c| match c.direction {
+                Direction::Onset => 1,
+                Direction::Recovery => -1,
+            })
+            .sum();
+        if net != change || found.is_empty() {
+            return false;
+        }
+        self.crossings.extend(found);
+        true
     }
 
     /// Splits `[lo, hi]` until each part holds a net change of one pair, then locates it.
@@ -154,18 +256,79 @@ impl<const N: usize> Scan<'_, N> {
     }
 }
 
+/// The grid of the eigenvalue scan when the study does not set `grid_points`: 64 speeds,
+/// refined by [`refine_turns`] where the least damped pair turns near the axis. On every
+/// shipped study and on a 10×10 bogie stability map it finds the crossings the 512-point grid
+/// finds (`tests/vehicle.rs`), for an eighth of the eigenvalue decompositions.
+pub const EIGEN_GRID_POINTS: usize = 64;
+
+/// Subdivisions of an interval flagged by [`refine_turns`].
+const TURN_SUBDIVISIONS: usize = 8;
+
+/// Speeds inside the grid intervals where an onset and a recovery could cancel in the count:
+/// wherever the parabola through the least damped real part at three successive grid speeds
+/// (same unstable count at all three) has its maximum between them and above zero, both
+/// intervals are split into [`TURN_SUBDIVISIONS`] parts. A pair that dips into the right
+/// half-plane and out again within one grid step shows as such a turn.
+fn refine_turns(ends: &[End]) -> Vec<f64> {
+    let mut flagged = vec![false; ends.len().saturating_sub(1)];
+    for (i, w) in ends.windows(3).enumerate() {
+        let (a, b, c) = (&w[0], &w[1], &w[2]);
+        if a.count != b.count
+            || b.count != c.count
+            || !(a.top.is_finite() && b.top.is_finite() && c.top.is_finite())
+        {
+            continue;
+        }
+        // the parabola through (v, top) at the three speeds
+        let (h1, h2) = (b.v - a.v, c.v - b.v);
+        let d1 = (b.top - a.top) / h1;
+        let d2 = (c.top - b.top) / h2;
+        let curv = (d2 - d1) / (h1 + h2); // half the second derivative
+        if curv >= 0.0 {
+            continue;
+        }
+        // slope at b: d1 + curv·h1; vertex where the slope vanishes
+        let slope_b = d1 + curv * h1;
+        let vertex = b.v - slope_b / (2.0 * curv);
+        if !(a.v..=c.v).contains(&vertex) {
+            continue;
+        }
+        let peak = b.top + slope_b * (vertex - b.v) + curv * (vertex - b.v).powi(2);
+        if peak > 0.0 {
+            flagged[i] = true;
+            flagged[i + 1] = true;
+        }
+    }
+    let mut extra = Vec::new();
+    for (i, f) in flagged.iter().enumerate() {
+        if *f {
+            let (lo, hi) = (ends[i].v, ends[i + 1].v);
+            extra.extend(
+                (1..TURN_SUBDIVISIONS)
+                    .map(|k| lo + (hi - lo) * k as f64 / TURN_SUBDIVISIONS as f64),
+            );
+        }
+    }
+    extra
+}
+
 /// Every crossing of the imaginary axis by a complex pair, for any state size: the count of
-/// unstable complex eigenvalues on the grid; an interval where it changes by more than one is
-/// bisected until each part holds one crossing (two bogies give pairs crossing fractions of a
-/// m/s apart), which is then located. Two crossings in opposite directions within one grid step
-/// cancel in the count and are not seen (as in the quartic scan).
+/// unstable complex eigenvalues on the grid (refined where the least damped pair turns near
+/// the axis, [`refine_turns`]). Where the count changes between two grid speeds the crossings
+/// are located by Newton on the Hopf system ([`hopf::newton`]); should their directions not
+/// account for the change, the interval is bisected on the count until each part holds one
+/// crossing (two bogies give pairs crossing fractions of a m/s apart), which is then located
+/// by Brent's method on the tracked eigenvalue. Two crossings in opposite directions within one
+/// grid step that the turn test misses cancel in the count and are not seen (as in the quartic
+/// scan).
 pub(super) fn eigen_scan<const N: usize>(
     sys: &LinearSystem<N>,
     law: CreepLaw,
     opts: &LinearOptions,
 ) -> Result<CriticalSpeeds, LinearError> {
     let (lo, hi) = opts.speed_range;
-    let n = opts.grid_points;
+    let n = opts.grid_points.unwrap_or(EIGEN_GRID_POINTS);
     let speed = |i: usize| lo + (hi - lo) * (i as f64) / ((n - 1) as f64);
     let det = |v: f64| determinant(&sys.jacobian(v));
     let mut scan = Scan {
@@ -174,20 +337,32 @@ pub(super) fn eigen_scan<const N: usize>(
         evaluations: 0,
         crossings: Vec::new(),
     };
-    let first = scan.end(lo)?;
-    let stable_at_start = first.ev.iter().all(|z| z.0 < 0.0);
+    let mut ends = (0..n)
+        .map(|i| scan.end(speed(i)))
+        .collect::<Result<Vec<End>, LinearError>>()?;
+    let extra = refine_turns(&ends);
+    if !extra.is_empty() {
+        for v in extra {
+            ends.push(scan.end(v)?);
+        }
+        ends.sort_by(|a, b| a.v.total_cmp(&b.v));
+    }
+    let stable_at_start = ends[0].ev.iter().all(|z| z.0 < 0.0);
     let mut divergence = Vec::new();
-    let (mut prev, mut d_prev) = (first, det(lo));
-    for i in 1..n {
-        let cur = scan.end(speed(i))?;
+    let mut d_prev = det(lo);
+    for w in ends.windows(2) {
+        let (prev, cur) = (&w[0], &w[1]);
+        let swapped = exchanged(prev, cur);
+        if (prev.count != cur.count || swapped > 0) && !scan.by_newton(prev, cur, swapped) {
+            scan.interval(prev, cur, 0)?;
+        }
         let d = det(cur.v);
-        scan.interval(&prev, &cur, 0)?;
         if d_prev.signum() != d.signum() && d_prev.is_finite() && d.is_finite() {
             let root = brent::root(det, prev.v, cur.v, opts.rel_tol * cur.v, 200);
             scan.evaluations += root.evaluations;
             divergence.push(root.x);
         }
-        (prev, d_prev) = (cur, d);
+        d_prev = d;
     }
     let mut crossings = scan.crossings;
     crossings.sort_by(|a, b| a.speed_m_s.total_cmp(&b.speed_m_s));
@@ -199,4 +374,36 @@ pub(super) fn eigen_scan<const N: usize>(
         divergence_speeds_m_s: divergence,
         evaluations: scan.evaluations,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn end(v: f64, top: f64) -> End {
+        End {
+            v,
+            ev: Vec::new(),
+            count: 0,
+            top,
+        }
+    }
+
+    /// σ(V) = 0.5 − (V − 5)² sampled at 4, 5.8 and 6.5 is negative at all three, but its
+    /// maximum (0.5 at V = 5, exact for a parabola) is not: both intervals are subdivided.
+    /// Shifted down by 1 the turn stays in the left half-plane and nothing is added.
+    #[test]
+    fn a_turn_above_the_axis_between_grid_speeds_is_refined() {
+        let s = |v: f64| 0.5 - (v - 5.0) * (v - 5.0);
+        let ends: Vec<End> = [4.0, 5.8, 6.5].iter().map(|&v| end(v, s(v))).collect();
+        assert!(ends.iter().all(|e| e.top < 0.0));
+        let extra = refine_turns(&ends);
+        assert_eq!(extra.len(), 2 * (TURN_SUBDIVISIONS - 1));
+        assert!(extra.iter().all(|v| (4.0..6.5).contains(v)));
+        let below: Vec<End> = [4.0, 5.8, 6.5]
+            .iter()
+            .map(|&v| end(v, s(v) - 1.0))
+            .collect();
+        assert!(refine_turns(&below).is_empty());
+    }
 }

@@ -80,10 +80,21 @@ pub fn spectrum_at<const N: usize>(j: &SMatrix<f64, N, N>, speed_m_s: f64) -> Op
     Some(Spectrum { speed_m_s, pairs })
 }
 
-/// The eigenvalues of `j` as (re, im), without vectors; `None` if not finite or QR failed.
+/// The eigenvalues of `j` as (re, im), without vectors; `None` if not finite or QR failed
+/// (nalgebra's Schur decomposition, faer's eigenvalues if that does not converge).
 pub fn eigenvalues<const N: usize>(j: &SMatrix<f64, N, N>) -> Option<Vec<(f64, f64)>> {
     if !j.iter().all(|x| x.is_finite()) {
         return None;
+    }
+    // nalgebra's real Schur form first: on the 28-state car it takes about half the time of
+    // faer's `eigenvalues` (measured 190 against 385 µs a matrix, loaded machine), and the
+    // scan's grid is its hot loop; faer if the QR iteration does not converge in 60 N sweeps
+    let d = nalgebra::DMatrix::<f64>::from_fn(N, N, |r, c| j[(r, c)]);
+    if let Some(schur) = nalgebra::Schur::try_new(d, f64::EPSILON, 60 * N) {
+        let ev = schur.complex_eigenvalues();
+        if ev.iter().all(|z| z.re.is_finite() && z.im.is_finite()) {
+            return Some(ev.iter().map(|z| (z.re, z.im)).collect());
+        }
     }
     let a = Mat::<f64>::from_fn(N, N, |r, c| j[(r, c)]);
     let ev = a.eigenvalues().ok()?;

@@ -590,7 +590,7 @@ fn linear_plan(l: Option<&schema::LinearSection>) -> Result<(LinearOptions, usiz
                     rule: "must lie in [3, 1000000]".into(),
                 });
             }
-            opts.grid_points = n;
+            opts.grid_points = Some(n);
         }
         if let Some(n) = l.spectrum_points {
             if !(2..=100_000).contains(&n) {
@@ -607,6 +607,19 @@ fn linear_plan(l: Option<&schema::LinearSection>) -> Result<(LinearOptions, usiz
 }
 
 impl Plan {
+    /// The linear scan's grid points: the study's `linear.grid_points`, or the default of the
+    /// model's path (512 for the wheelset's quartic scan, 64 refined for a vehicle's
+    /// eigenvalue scan).
+    pub fn grid_points(&self) -> usize {
+        self.linear
+            .grid_points
+            .unwrap_or(if matches!(self.vehicle, VehicleSpec::Wheelset) {
+                crate::stability::QUARTIC_GRID_POINTS
+            } else {
+                crate::stability::EIGEN_GRID_POINTS
+            })
+    }
+
     /// The bifurcation options: the study's `[bifurcation]` section, or the defaults over the
     /// linear speed range.
     pub fn bifurcation_options(&self) -> BifurcationOptions {
