@@ -186,43 +186,77 @@ fn simulate_states<const N: usize>(
     })
 }
 
-/// The wheelset with the speed as a fifth state decreasing at `rate` (m/s²).
+/// The model with the speed as one more state, decreasing at `rate` (m/s²): the field the
+/// ramp integrates, for every layout. Its state is $(x, V)$ with $x$ the model's
+/// [`Vehicle::states`] values in the model's order and $V$ last, so it has $M$ = states + 1
+/// entries (5 for the wheelset, 13/15 for a bogie, 29/35 for a car; the analyses pick $M$ with
+/// [`crate::with_states_plus_one`]):
+/// $$\dot x = f(x; V),\qquad \dot V = −r.$$
+/// Called with another $M$, every value is NaN (the integrator then reports a non-finite
+/// state): never a panic.
 pub struct RampField<'a> {
-    /// the wheelset (4 states)
+    /// the model (any layout)
     pub model: &'a Vehicle,
-    /// deceleration (m/s²), positive
+    /// deceleration r (m/s²), positive; 0 holds the speed (the settle phase)
     pub rate: f64,
 }
 
-impl VectorField<5> for RampField<'_> {
-    fn rhs(&self, x: &SVector<f64, 5>, _p: f64) -> SVector<f64, 5> {
-        let v = x[4].max(1e-3);
-        let f = VectorField::<4>::rhs(self.model, &x.fixed_rows::<4>(0).into_owned(), v);
-        SVector::<f64, 5>::new(f[0], f[1], f[2], f[3], -self.rate)
+impl RampField<'_> {
+    /// Whether `M` fits the model (states + 1).
+    fn fits(&self, m: usize) -> bool {
+        m == self.model.states() + 1
     }
-    fn jacobian(&self, x: &SVector<f64, 5>, p: f64) -> SMatrix<f64, 5, 5> {
-        // The ramp needs no monodromy; this Jacobian (exact in x, differences in V) exists
-        // for completeness of the contract.
-        let v = x[4].max(1e-3);
-        let xs = x.fixed_rows::<4>(0).into_owned();
-        let j = VectorField::<4>::jacobian(self.model, &xs, v);
+}
+
+impl<const M: usize> VectorField<M> for RampField<'_> {
+    fn rhs(&self, x: &SVector<f64, M>, _p: f64) -> SVector<f64, M> {
+        let mut out = SVector::<f64, M>::from_element(f64::NAN);
+        if !self.fits(M) {
+            return out;
+        }
+        let n = M - 1;
+        let v = x[n].max(1e-3);
+        self.model
+            .rhs_into(&x.as_slice()[..n], v, &mut out.as_mut_slice()[..n]);
+        out[n] = -self.rate;
+        out
+    }
+    fn jacobian(&self, x: &SVector<f64, M>, _p: f64) -> SMatrix<f64, M, M> {
+        // The ramp needs no monodromy; this Jacobian (exact in x, central differences in V)
+        // exists for completeness of the contract.
+        let mut out = SMatrix::<f64, M, M>::from_element(f64::NAN);
+        if !self.fits(M) {
+            return out;
+        }
+        let n = M - 1;
+        let xs = &x.as_slice()[..n];
+        let v = x[n].max(1e-3);
+        let mut j = vec![0.0; n * n];
+        self.model.jacobian_into(xs, v, &mut j);
+        out.fill(0.0);
+        for c in 0..n {
+            for r in 0..n {
+                out[(r, c)] = j[c * n + r];
+            }
+        }
         let h = 1e-6 * v;
-        let mut xp = *x;
-        xp[4] += h;
-        let mut xm = *x;
-        xm[4] -= h;
-        let dv = (self.rhs(&xp, p) - self.rhs(&xm, p)) / (2.0 * h);
-        let mut out = SMatrix::<f64, 5, 5>::zeros();
-        out.fixed_view_mut::<4, 4>(0, 0).copy_from(&j);
-        out.fixed_view_mut::<4, 1>(0, 4)
-            .copy_from(&dv.fixed_rows::<4>(0));
+        let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
+        self.model.rhs_into(xs, (x[n] + h).max(1e-3), &mut fp);
+        self.model.rhs_into(xs, (x[n] - h).max(1e-3), &mut fm);
+        for r in 0..n {
+            out[(r, n)] = (fp[r] - fm[r]) / (2.0 * h);
+        }
         out
     }
     fn switch_count(&self) -> usize {
+        // the vehicle's count does not depend on its const size
         VectorField::<4>::switch_count(self.model)
     }
-    fn switch_value(&self, k: usize, x: &SVector<f64, 5>) -> f64 {
-        VectorField::<4>::switch_value(self.model, k, &x.fixed_rows::<4>(0).into_owned())
+    fn switch_value(&self, k: usize, x: &SVector<f64, M>) -> f64 {
+        if !self.fits(M) {
+            return f64::NAN;
+        }
+        self.model.flange_switch(k, &x.as_slice()[..M - 1])
     }
 }
 
