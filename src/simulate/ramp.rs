@@ -175,9 +175,11 @@ pub struct RampResult {
     pub options: RampOptions,
     /// sampling interval of the history (s)
     pub sample_interval_s: f64,
-    /// the last peak amplitude of the settle phase (m)
+    /// the larger of the last two peak amplitudes of the settle phase (m): the cycle's max|y|
+    /// also when the cycle is asymmetric
     pub start_amplitude_m: f64,
-    /// relative change of the peak amplitude over the last 10 % of the settle phase (–):
+    /// relative change of the cycle's amplitude (the larger of two successive peaks) over the
+    /// last 10 % of the settle phase (–):
     /// ≈ 0 when the motion had settled on a cycle; clearly negative when it was still dying
     /// out (the start speed is below the nonlinear critical speed, or `settle` is too short)
     pub settle_drift_rel: f64,
@@ -341,13 +343,18 @@ impl<'a> Pipeline<'a> {
             .is_none_or(|s| s.iter().all(EnStream::below_limit))
     }
 
-    /// The last peak amplitude before time `t` (m); 0 if none.
-    fn amplitude_before(&self, t: f64) -> f64 {
+    /// The larger of the last two peak amplitudes before time `t` (m; 0 if none): one maximum
+    /// and one minimum of y, so that an asymmetric cycle (whose two sides differ: the DTU
+    /// bogie's large cycle reaches 10.1 mm on one side and 5 mm on the other) is measured by
+    /// its larger side whichever peak came last.
+    fn cycle_amplitude_before(&self, t: f64) -> f64 {
         self.envelope
             .iter()
             .rev()
-            .find(|p| p.t_s < t)
-            .map_or(0.0, |p| p.amplitude_m)
+            .filter(|p| p.t_s < t)
+            .take(2)
+            .map(|p| p.amplitude_m)
+            .fold(0.0, f64::max)
     }
 
     /// Measures f0 on the peaks after `t_from` (or on all of them), builds one EN 14363 stream
@@ -506,8 +513,8 @@ fn ramp_states<const M: usize>(
     x0[M - 1] = opts.start_speed;
     let settle = RampField { model, rate: 0.0 };
     let (x, t) = run.run(&settle, x0, 0.0, opts.settle, &|_| false)?;
-    let start_amplitude_m = run.pipe.last_amplitude();
-    let earlier = run.pipe.amplitude_before(0.9 * opts.settle);
+    let start_amplitude_m = run.pipe.cycle_amplitude_before(f64::INFINITY);
+    let earlier = run.pipe.cycle_amplitude_before(0.9 * opts.settle);
     let mut result = RampResult {
         quantity: RAMP_QUANTITY,
         died_at_m_s: None,
