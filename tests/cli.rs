@@ -301,7 +301,7 @@ fn ramp_on_a_bogie_reports_every_wheelset() {
     let csv = std::fs::read_to_string(dir.join("out/dtu-cooperrider-bogie/en14363.csv"))
         .expect("en14363.csv");
     assert!(csv.starts_with(
-        "time_s,speed_m_s,sum_guiding_forces_rms_kn,limit_kn,rms_kn_wheelset_1,rms_kn_wheelset_2\n"
+        "time_s,speed_m_s,sum_guiding_forces_rms_kn,limit_kn,rms_wheelset_1_kn,rms_wheelset_2_kn\n"
     ));
     assert!(csv.lines().count() > 10);
     assert!(csv.lines().skip(1).all(|l| l.split(',').count() == 6));

@@ -143,11 +143,11 @@ fn envelope_csv(r: &RampResult) -> String {
 
 /// `en14363.csv`: the worst wheelset's sliding r.m.s. (`sum_guiding_forces_rms_kn`, the
 /// single wheelset's own) and its limit, then one column per wheelset, front to rear
-/// (`rms_kn_wheelset_1`, …). Every wheelset's stream reports at the same track positions.
+/// (`rms_wheelset_1_kn`, …). Every wheelset's stream reports at the same track positions.
 fn en14363_csv(r: &RampResult) -> String {
     let mut s = String::from("time_s,speed_m_s,sum_guiding_forces_rms_kn,limit_kn");
     for e in &r.en14363_wheelsets {
-        s.push_str(&format!(",rms_kn_{}", e.name.replace(' ', "_")));
+        s.push_str(&format!(",rms_{}_kn", e.name.replace(' ', "_")));
     }
     s.push('\n');
     if let Some(e) = &r.en14363 {
