@@ -330,8 +330,8 @@ pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> Result<St
     render_grid(&[y, psi, phase], 1, 1100, 1300)
 }
 
-/// `ramp.svg`: the peak amplitude against speed during the ramp, and the EN 14363 sliding
-/// r.m.s. of the sum of guiding forces against its limit.
+/// `ramp.svg`: the leading wheelset's peak amplitude against speed during the ramp, and the
+/// EN 14363 sliding r.m.s. of the sum of guiding forces of every wheelset against its limit.
 pub fn ramp(study: &str, r: &crate::simulate::RampResult) -> Result<String, PlotError> {
     let mut amp = figure(
         &format!("{study}: ramp at {:.4} m/s² (peaks of |y|)", r.options.rate),
@@ -364,14 +364,18 @@ pub fn ramp(study: &str, r: &crate::simulate::RampResult) -> Result<String, Plot
             "speed V (m/s)",
             "ΣY rms (kN)",
         );
-        en.series.push(line(
-            "",
-            e.series
-                .iter()
-                .map(|p| (p.speed_m_s, p.rms_n / 1e3))
-                .collect(),
-            false,
-        ));
+        // one line per wheelset (the single wheelset's unnamed, as before)
+        let named = r.en14363_wheelsets.len() > 1;
+        for w in &r.en14363_wheelsets {
+            en.series.push(line(
+                if named { &w.name } else { "" },
+                w.series
+                    .iter()
+                    .map(|p| (p.speed_m_s, p.rms_n / 1e3))
+                    .collect(),
+                false,
+            ));
+        }
         en.hlines.push(Marker {
             at: e.limit_n / 1e3,
             label: format!("limit {:.2} kN", e.limit_n / 1e3),

@@ -264,6 +264,49 @@ fn simulate_and_ramp_write_their_files() {
     assert_eq!(bad.status.code(), Some(2));
 }
 
+/// `critspeed ramp` on a bogie (it refused vehicles before): the start defaults to 1.05 V_H
+/// from the vehicle's eigenvalue scan, `ramp.json` keeps the wheelset's keys and adds one EN
+/// 14363 object per wheelset, `en14363.csv` one column per wheelset.
+#[test]
+fn ramp_on_a_bogie_reports_every_wheelset() {
+    let dir = scratch("ramp-bogie");
+    let bogie = study("dtu-cooperrider-bogie.toml");
+    let out = critspeed(&["ramp", &bogie, "--settle", "5 s", "--json"], &dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    // 1.05 × V_H = 1.05 × 216.16 m/s
+    let start = v["start_speed_m_s"].as_f64().expect("start");
+    assert!((start / 1.05 - 216.16).abs() < 0.01, "{start}");
+    assert!(v["died_at_m_s"].is_f64());
+    let en = &v["en14363"];
+    for key in [
+        "f0_hz",
+        "limit_kn",
+        "max_rms_kn",
+        "verdict",
+        "worst_wheelset",
+    ] {
+        assert!(!en[key].is_null(), "{key}: {en}");
+    }
+    let wheelsets = en["wheelsets"].as_array().expect("wheelsets");
+    let names: Vec<&str> = wheelsets
+        .iter()
+        .filter_map(|w| w["name"].as_str())
+        .collect();
+    assert_eq!(names, ["wheelset 1", "wheelset 2"]);
+    let csv = std::fs::read_to_string(dir.join("out/dtu-cooperrider-bogie/en14363.csv"))
+        .expect("en14363.csv");
+    assert!(csv.starts_with(
+        "time_s,speed_m_s,sum_guiding_forces_rms_kn,limit_kn,rms_wheelset_1_kn,rms_wheelset_2_kn\n"
+    ));
+    assert!(csv.lines().count() > 10);
+    assert!(csv.lines().skip(1).all(|l| l.split(',').count() == 6));
+}
+
 #[test]
 fn conicity_json_contract_and_errors() {
     let dir = scratch("conicity");

@@ -11,9 +11,10 @@ use super::Failure;
 use crate::contact::creep::CreepLaw;
 use crate::figures;
 use crate::simulate::{
-    ramp, ramp_converged, RampConvergence, RampOptions, RampResult, RampStop, RAMP_QUANTITY,
+    ramp, ramp_converged, En14363, En14363Verdict, RampConvergence, RampOptions, RampResult,
+    RampStop, RAMP_QUANTITY,
 };
-use crate::stability::{critical_speeds, LinearSystem};
+use crate::stability::{critical_speeds, LinearError, LinearSystem};
 use crate::study::units::Dimension;
 
 /// The ramp command's arguments, as typed.
@@ -81,15 +82,35 @@ fn result_json(r: &RampResult) -> Value {
         "settle_drift_rel": r.settle_drift_rel,
         "en14363": r.en14363.as_ref().map(|e| json!({
             "quantity": "EN 14363 instability criterion: speed where the sliding rms of the \
-    sum of guiding forces (f0 ± 2 Hz, 100 m) drops below (10 + 2 Q0/3)/2 kN",
+    sum of guiding forces (f0 ± 2 Hz, 100 m) drops below (10 + 2 Q0/3)/2 kN, judged on the \
+    worst wheelset",
             "speed_m_s": r.en14363_speed_m_s,
             "f0_hz": e.f0_hz,
             "limit_kn": e.limit_n / 1e3,
             "max_rms_kn": e.max_rms_n / 1e3,
             "verdict": format!("{:?}", e.verdict),
+            "worst_wheelset": e.wheelset + 1,
+            "worst_wheelset_name": e.name,
+            "wheelsets": r.en14363_wheelsets.iter().map(wheelset_json).collect::<Vec<_>>(),
         })),
         "simulated_s": r.simulated_s,
         "steps": r.steps,
+    })
+}
+
+/// One wheelset's EN 14363 evaluation: `wheelset` counts from 1 at the front, as the body
+/// names do.
+fn wheelset_json(e: &En14363) -> Value {
+    json!({
+        "wheelset": e.wheelset + 1,
+        "name": e.name,
+        "max_rms_kn": e.max_rms_n / 1e3,
+        "limit_kn": e.limit_n / 1e3,
+        "verdict": format!("{:?}", e.verdict),
+        "speed_m_s": match e.verdict {
+            En14363Verdict::DroppedBelow { speed_m_s } => Some(speed_m_s),
+            _ => None,
+        },
     })
 }
 
@@ -120,17 +141,31 @@ fn envelope_csv(r: &RampResult) -> String {
     s
 }
 
+/// `en14363.csv`: the worst wheelset's sliding r.m.s. (`sum_guiding_forces_rms_kn`, the
+/// single wheelset's own) and its limit, then one column per wheelset, front to rear
+/// (`rms_wheelset_1_kn`, …). Every wheelset's stream reports at the same track positions.
 fn en14363_csv(r: &RampResult) -> String {
-    let mut s = String::from("time_s,speed_m_s,sum_guiding_forces_rms_kn,limit_kn\n");
+    let mut s = String::from("time_s,speed_m_s,sum_guiding_forces_rms_kn,limit_kn");
+    for e in &r.en14363_wheelsets {
+        s.push_str(&format!(",rms_{}_kn", e.name.replace(' ', "_")));
+    }
+    s.push('\n');
     if let Some(e) = &r.en14363 {
-        for p in &e.series {
+        for (i, p) in e.series.iter().enumerate() {
             s.push_str(&format!(
-                "{},{},{},{}\n",
+                "{},{},{},{}",
                 p.t_s,
                 p.speed_m_s,
                 p.rms_n / 1e3,
                 e.limit_n / 1e3
             ));
+            for w in &r.en14363_wheelsets {
+                match w.series.get(i) {
+                    Some(q) => s.push_str(&format!(",{}", q.rms_n / 1e3)),
+                    None => s.push(','),
+                }
+            }
+            s.push('\n');
         }
     }
     s
@@ -140,30 +175,21 @@ fn en14363_csv(r: &RampResult) -> String {
 pub fn run(a: &RampArgs, root: &Path) -> Result<(), Failure> {
     let plan = load(&a.study)?;
     let model = build(&plan)?;
-    if model.states() != 4 {
-        return Err(user(anyhow!(
-            "study '{}' is a {} ({} states): the ramp method runs on the single wheelset so far",
-            plan.name,
-            model.layout.name(),
-            model.states()
-        )));
-    }
     let start = match &a.start {
         Some(s) => argument("--start", s, Dimension::Speed)?,
         None => {
-            let sys = LinearSystem::<4>::at_centre(&model);
-            let hopf = critical_speeds(&sys, model.creep_law(), &plan.linear)
-                .map_err(compute)?
-                .critical()
-                .map(|c| c.speed_m_s)
-                .ok_or_else(|| {
-                    user(anyhow!(
-                        "the {} model has no Hopf point in [{}, {}] m/s: give --start",
-                        model.creep_law().name(),
-                        plan.linear.speed_range.0,
-                        plan.linear.speed_range.1
-                    ))
-                })?;
+            let found = crate::with_states!(model.states(), N => critical_speeds(
+                    &LinearSystem::<N>::at_centre(&model), model.creep_law(), &plan.linear),
+                _ => Err(LinearError::States(model.states())))
+            .map_err(compute)?;
+            let hopf = found.critical().map(|c| c.speed_m_s).ok_or_else(|| {
+                user(anyhow!(
+                    "the {} model has no Hopf point in [{}, {}] m/s: give --start",
+                    model.creep_law().name(),
+                    plan.linear.speed_range.0,
+                    plan.linear.speed_range.1
+                ))
+            })?;
             1.05 * hopf
         }
     };
@@ -264,6 +290,18 @@ fn table(study: &str, r: &RampResult, conv: Option<&RampConvergence>) -> String 
             e.limit_n / 1e3,
             e.verdict
         ));
+        if r.en14363_wheelsets.len() > 1 {
+            s.push_str(&format!("    judged on {} (the worst wheelset)\n", e.name));
+            for w in &r.en14363_wheelsets {
+                s.push_str(&format!(
+                    "    {:<12} max sliding rms {:.2} kN (limit {:.2} kN): {:?}\n",
+                    w.name,
+                    w.max_rms_n / 1e3,
+                    w.limit_n / 1e3,
+                    w.verdict
+                ));
+            }
+        }
     }
     s
 }

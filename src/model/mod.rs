@@ -270,3 +270,36 @@ macro_rules! with_states {
         }
     };
 }
+
+/// Runs `$body` with the const `$m` set to one more than the state size `$states` of a
+/// vehicle (5, 13, 15, 29 or 35 for 4, 12, 14, 28 or 34 states): the fields that carry the
+/// model's states and one more (the ramp's speed, [`crate::simulate::RampField`]) pick their
+/// compiled size here, beside [`with_states!`]. Any other size evaluates `$other`.
+#[macro_export]
+macro_rules! with_states_plus_one {
+    ($states:expr, $m:ident => $body:expr, _ => $other:expr) => {
+        match $states {
+            4 => {
+                const $m: usize = 5;
+                $body
+            }
+            12 => {
+                const $m: usize = 13;
+                $body
+            }
+            14 => {
+                const $m: usize = 15;
+                $body
+            }
+            28 => {
+                const $m: usize = 29;
+                $body
+            }
+            34 => {
+                const $m: usize = 35;
+                $body
+            }
+            _ => $other,
+        }
+    };
+}

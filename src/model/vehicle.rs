@@ -411,6 +411,24 @@ impl Vehicle {
         self.contact.klingel_wavelength()
     }
 
+    /// Switching function `k` of the flange dead bands at state `x` (at least the wheelsets'
+    /// coordinates; NaN if `k` or `x` is too short): wheelset `k/2`'s $y − δ_f$ for even `k`
+    /// (right flange), $−y − δ_f$ for odd `k` (left), as the 4-state model. The vector fields
+    /// of the vehicle and of the ramp ([`crate::simulate::RampField`]) both use it.
+    pub fn flange_switch(&self, k: usize, x: &[f64]) -> f64 {
+        let c = self.contact.flange.map_or(0.0, |f| f.clearance);
+        let y = self
+            .wheelset_dofs
+            .get(k / 2)
+            .and_then(|&w| x.get(w))
+            .map_or(f64::NAN, |&y| y);
+        if k.is_multiple_of(2) {
+            y - c
+        } else {
+            -y - c
+        }
+    }
+
     /// Sum of guiding forces ΣY (N) of each wheelset at state `x` (EN 14363): the lateral
     /// contact force $Q_{c,y}$ (creep after the creep law, gravitational stiffness, flange).
     pub fn guiding_forces(&self, x: &[f64], v: f64) -> Vec<f64> {
@@ -448,14 +466,7 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
         }
     }
     fn switch_value(&self, k: usize, x: &SVector<f64, N>) -> f64 {
-        let c = self.contact.flange.map_or(0.0, |f| f.clearance);
-        let y = self.wheelset_dofs.get(k / 2).map_or(f64::NAN, |&w| x[w]);
-        // even k: right flange (y > δ_f); odd k: left flange (y < −δ_f), as the 4-state model
-        if k.is_multiple_of(2) {
-            y - c
-        } else {
-            -y - c
-        }
+        self.flange_switch(k, x.as_slice())
     }
 }
 

@@ -234,9 +234,14 @@ pub enum En14363Verdict {
     NotEvaluated,
 }
 
-/// The EN 14363 evaluation of a ramp.
+/// The EN 14363 evaluation of one wheelset over a ramp.
 #[derive(Clone, Debug, PartialEq)]
 pub struct En14363 {
+    /// the wheelset's index, 0 for the leading one, front to rear
+    /// ([`Vehicle::wheelset_dofs`] order)
+    pub wheelset: usize,
+    /// its body name, e.g. `"wheelset 2"` ([`Vehicle::bodies`])
+    pub name: String,
     /// hunting frequency f0 (Hz), from the settle phase's peak spacing
     pub f0_hz: Option<f64>,
     /// the limit (ΣY)_lim (N)
@@ -263,6 +268,47 @@ pub fn en14363_verdict(series: &[RmsPoint], limit: f64) -> En14363Verdict {
     let frac = (a.rms_n - limit) / (a.rms_n - b.rms_n);
     let speed_m_s = a.speed_m_s + frac * (b.speed_m_s - a.speed_m_s);
     En14363Verdict::DroppedBelow { speed_m_s }
+}
+
+/// How severely one wheelset's evaluation fails the criterion, as a key that sorts from mild
+/// to severe: first the verdict's class ([`En14363Verdict::StillAbove`] >
+/// [`En14363Verdict::DroppedBelow`] > [`En14363Verdict::NeverExceeded`] >
+/// [`En14363Verdict::NotEvaluated`]), then, between two that dropped below, the lower speed
+/// (the r.m.s. stayed above the limit longest), then the larger `max_rms_n / limit_n`.
+fn severity(e: &En14363) -> (u8, f64, f64) {
+    let ratio = e.max_rms_n / e.limit_n;
+    let ratio = if ratio.is_finite() { ratio } else { 0.0 };
+    match e.verdict {
+        En14363Verdict::StillAbove => (3, 0.0, ratio),
+        En14363Verdict::DroppedBelow { speed_m_s } => (2, -speed_m_s, ratio),
+        En14363Verdict::NeverExceeded => (1, 0.0, ratio),
+        En14363Verdict::NotEvaluated => (0, 0.0, ratio),
+    }
+}
+
+/// The worst wheelset of a vehicle's EN 14363 evaluations (index into `evals`), on which the
+/// vehicle's verdict is judged: the one whose sliding r.m.s. **stays at or above its limit
+/// down to the lowest speed** (still above at the end of the run beats any that dropped below;
+/// between two that dropped below, the lower [`En14363Verdict::DroppedBelow`] speed), and
+/// when none of them ever reached its limit (or two tie), the one with the **largest
+/// max r.m.s. relative to its limit**; a remaining tie goes to the front-most wheelset.
+/// `None` for an empty slice.
+pub fn worst_wheelset(evals: &[En14363]) -> Option<usize> {
+    let mut best: Option<(usize, (u8, f64, f64))> = None;
+    for (i, e) in evals.iter().enumerate() {
+        let key = severity(e);
+        let worse = best.is_none_or(|(_, b)| {
+            key.0
+                .cmp(&b.0)
+                .then(key.1.total_cmp(&b.1))
+                .then(key.2.total_cmp(&b.2))
+                .is_gt()
+        });
+        if worse {
+            best = Some((i, key));
+        }
+    }
+    best.map(|(i, _)| i)
 }
 
 /// The streaming EN 14363 evaluation: filter → sliding r.m.s. → series.
@@ -303,7 +349,7 @@ impl EnStream {
         self.series.last().is_none_or(|p| p.rms_n < self.limit)
     }
 
-    pub(super) fn finish(self) -> En14363 {
+    pub(super) fn finish(self, wheelset: usize, name: String) -> En14363 {
         let max_rms_n = self.series.iter().map(|p| p.rms_n).fold(0.0, f64::max);
         let verdict = if self.filter.is_none() {
             En14363Verdict::NotEvaluated
@@ -311,6 +357,8 @@ impl EnStream {
             en14363_verdict(&self.series, self.limit)
         };
         En14363 {
+            wheelset,
+            name,
             f0_hz: self.f0,
             limit_n: self.limit,
             max_rms_n,

@@ -1,17 +1,21 @@
-//! Time simulation of the wheelset at constant speed, the ramp method, and the EN 14363
-//! instability criterion evaluated on the ramp's time history.
+//! Time simulation of a model of any layout (wheelset, bogie, car: MODEL §11) at constant
+//! speed, the ramp method, and the EN 14363 instability criterion evaluated on the ramp's
+//! time history.
 //!
-//! * [`simulate`]: the seed's experiment (its Figs. 10–11): start from y(0), integrate at a
-//!   fixed speed, sample uniformly.
+//! * [`simulate`]: the seed's experiment (its Figs. 10–11): start from the leading wheelset's
+//!   y(0), integrate at a fixed speed, sample uniformly.
 //! * [`ramp`]: the industrial ramp method (True 2013; GENSYS documents a 5 km/h per s
 //!   deceleration): start on a large cycle above the critical speed, let it settle, then
-//!   decrease the speed linearly in one long simulation ([`RampField`]) until the hunting dies.
-//!   The result is the **ramp (simulation) estimate of the nonlinear critical speed**: the
-//!   speed at which the peak lateral amplitude falls below a threshold for good.
-//!   [`ramp_converged`] halves the deceleration until two successive estimates agree.
-//! * The EN 14363 instability criterion on the same history ([`sum_of_guiding_forces`],
-//!   [`BandPass`], [`SlidingRms`], [`en14363_limit`], [`en14363_verdict`]), reported in
-//!   [`RampResult::en14363`].
+//!   decrease the speed linearly in one long simulation ([`RampField`]: the model's states
+//!   and the speed as one more, for every layout) until the hunting dies. The result is the
+//!   **ramp (simulation) estimate of the nonlinear critical speed**: the speed at which the
+//!   peak lateral amplitude of the **leading wheelset** (state 0, its rate at state
+//!   [`Vehicle::dofs`]) falls below a threshold for good. [`ramp_converged`] halves the
+//!   deceleration until two successive estimates agree.
+//! * The EN 14363 instability criterion on the same history, **one stream per wheelset**
+//!   ([`Vehicle::guiding_forces`], [`BandPass`], [`SlidingRms`], [`en14363_limit`],
+//!   [`en14363_verdict`]), judged on the worst wheelset ([`worst_wheelset`]) and reported in
+//!   [`RampResult::en14363`] (the worst) and [`RampResult::en14363_wheelsets`] (all).
 //!
 //! # What the ramp estimate is, and which way it errs
 //!
@@ -47,17 +51,37 @@
 //! 84 m/s), starting on the large flange-contact cycle, the ramp drops to the small-cycle
 //! branch at the fold and dies below 77.77 m/s in the same way.
 //!
+//! Measured on `studies/dtu-cooperrider-bogie.toml` (12 states; `tests/ramp_vehicle.rs`): from
+//! its small supercritical cycle (0.669 mm at 220 m/s) the hunting dies 3.96 m/s below
+//! $V_H = 216.162$ m/s at 1 m/s² and 1.71 m/s below at 0.25 m/s² (ratio 0.43 for a quarter of
+//! the rate: √¼ and the logarithm). From its large cycle at 226.97 m/s (1.05 $V_H$, the CLI's
+//! default start: 10.09 mm on one side, 5.0 mm on the other, an asymmetric cycle that runs
+//! partly on the linear extension of the 8 mm contact table) it dies at 120.72, 122.14,
+//! 122.94 and 123.37 m/s at 1.389, 0.7, 0.35 and 0.175 m/s²: far below the 150.51 m/s fold
+//! that the continuation (of the symmetric branch, to 7 mm) reports as $V_{NL}$, and not by
+//! lag: a constant-speed simulation at 135 m/s from the ramp's state keeps hunting at 8.4 mm.
+//!
 //! # The EN 14363 instability criterion
 //!
-//! The assessment quantity is the sum of guiding forces ΣY on the wheelset: the lateral
+//! The assessment quantity is the sum of guiding forces ΣY on each wheelset: the lateral
 //! wheel–rail forces, creep (after the Shen factor), the lateral resultant of the normal
 //! forces and the flange force: every term of $m\ddot y$ in MODEL §8 except the suspension
-//! force. It is computed as
-//! $$ΣY = m\ddot y − F_s,\qquad F_s = −2K_{py}\,y − 2C_{py}\,\dot y$$
-//! from the model's right-hand side ([`sum_of_guiding_forces`]). ΣY is band-pass filtered
-//! to $f_0 ± 2$ Hz around the hunting frequency $f_0$, and its sliding r.m.s. over 100 m of
-//! track is compared with $(ΣY)_{lim} = (10 + 2Q_0/3)/2$ kN, $Q_0$ the static wheel load in
-//! kN ([`en14363_limit`]).
+//! force, i.e. for wheelset $k$ of a vehicle
+//! $$ΣY_k = m\ddot y_k + (Kq + C\dot q)_{y_k}$$
+//! (MODEL §11: every lateral force on it but the elements'), taken directly as its lateral
+//! contact force ([`Vehicle::guiding_forces`]; [`sum_of_guiding_forces`] is the leading
+//! wheelset's). Each wheelset's ΣY is band-pass filtered to $f_0 ± 2$ Hz around the hunting
+//! frequency $f_0$ (one $f_0$ for the vehicle, measured on the leading wheelset), and its
+//! sliding r.m.s. over 100 m of track is compared with $(ΣY)_{lim} = (10 + 2Q_0/3)/2$ kN,
+//! $Q_0$ the static wheel load in kN ([`en14363_limit`]): $Q_0 = W/2$ with $W$ the study's
+//! axle load, which MODEL §2 and §11 define as the whole vertical load on the axle's two
+//! contacts (for a vehicle it already includes the bogie's and the car body's share: the
+//! DTU studies give 133.3 kN, the load of their contact table), so the limit is the same for
+//! every wheelset. The vehicle's verdict is that of its worst wheelset ([`worst_wheelset`]:
+//! the one above its limit down to the lowest speed, else the largest r.m.s.); below the
+//! reported EN 14363 speed every wheelset is below its limit. The ramp stops early only when
+//! the leading wheelset's amplitude is below a tenth of the threshold **and** every
+//! wheelset's r.m.s. is below its limit.
 //!
 //! Sources: EN 14363 (instability assessment quantity ΣY, sliding r.m.s., filter band
 //! $f_0 ± 2$ Hz, 100 m window, limit $(10 + 2Q_0/3)/2$ kN), as summarised in the GENSYS
@@ -86,8 +110,11 @@
 //! A single wheelset of the seed's size produces small guiding forces: on
 //! `studies/seed-hunting.toml` the r.m.s. is 3.4 kN on the 6.8 mm cycle at 75 m/s and 8.1 kN
 //! on the 20 mm cycle at 103.6 m/s, far below the 23.3 kN limit, so the criterion never flags that wheelset (the verdict says so, with the
-//! largest r.m.s. reached). The criterion is meant for whole vehicles whose bogie and body
-//! masses load the wheelsets.
+//! largest r.m.s. reached). Ramped from 1.05 $V_H$ at 1.389 m/s², the DTU bogie on its 10 mm
+//! cycle reaches a sliding r.m.s. of 11.59 kN on the leading wheelset and 5.55 kN on the
+//! trailing one, the DTU car 11.38, 5.24, 12.77 and 5.72 kN (wheelsets 1–4; wheelset 3, the
+//! leading one of the rear bogie, is the worst), all below their 27.22 kN limit
+//! ($Q_0$ = 66.66 kN): the DTU table's low conicity (0.029) keeps the guiding forces small.
 
 use nalgebra::{Complex, SMatrix, SVector};
 
@@ -186,43 +213,77 @@ fn simulate_states<const N: usize>(
     })
 }
 
-/// The wheelset with the speed as a fifth state decreasing at `rate` (m/s²).
+/// The model with the speed as one more state, decreasing at `rate` (m/s²): the field the
+/// ramp integrates, for every layout. Its state is $(x, V)$ with $x$ the model's
+/// [`Vehicle::states`] values in the model's order and $V$ last, so it has $M$ = states + 1
+/// entries (5 for the wheelset, 13/15 for a bogie, 29/35 for a car; the analyses pick $M$ with
+/// [`crate::with_states_plus_one`]):
+/// $$\dot x = f(x; V),\qquad \dot V = −r.$$
+/// Called with another $M$, every value is NaN (the integrator then reports a non-finite
+/// state): never a panic.
 pub struct RampField<'a> {
-    /// the wheelset (4 states)
+    /// the model (any layout)
     pub model: &'a Vehicle,
-    /// deceleration (m/s²), positive
+    /// deceleration r (m/s²), positive; 0 holds the speed (the settle phase)
     pub rate: f64,
 }
 
-impl VectorField<5> for RampField<'_> {
-    fn rhs(&self, x: &SVector<f64, 5>, _p: f64) -> SVector<f64, 5> {
-        let v = x[4].max(1e-3);
-        let f = VectorField::<4>::rhs(self.model, &x.fixed_rows::<4>(0).into_owned(), v);
-        SVector::<f64, 5>::new(f[0], f[1], f[2], f[3], -self.rate)
+impl RampField<'_> {
+    /// Whether `M` fits the model (states + 1).
+    fn fits(&self, m: usize) -> bool {
+        m == self.model.states() + 1
     }
-    fn jacobian(&self, x: &SVector<f64, 5>, p: f64) -> SMatrix<f64, 5, 5> {
-        // The ramp needs no monodromy; this Jacobian (exact in x, differences in V) exists
-        // for completeness of the contract.
-        let v = x[4].max(1e-3);
-        let xs = x.fixed_rows::<4>(0).into_owned();
-        let j = VectorField::<4>::jacobian(self.model, &xs, v);
+}
+
+impl<const M: usize> VectorField<M> for RampField<'_> {
+    fn rhs(&self, x: &SVector<f64, M>, _p: f64) -> SVector<f64, M> {
+        let mut out = SVector::<f64, M>::from_element(f64::NAN);
+        if !self.fits(M) {
+            return out;
+        }
+        let n = M - 1;
+        let v = x[n].max(1e-3);
+        self.model
+            .rhs_into(&x.as_slice()[..n], v, &mut out.as_mut_slice()[..n]);
+        out[n] = -self.rate;
+        out
+    }
+    fn jacobian(&self, x: &SVector<f64, M>, _p: f64) -> SMatrix<f64, M, M> {
+        // The ramp needs no monodromy; this Jacobian (exact in x, central differences in V)
+        // exists for completeness of the contract.
+        let mut out = SMatrix::<f64, M, M>::from_element(f64::NAN);
+        if !self.fits(M) {
+            return out;
+        }
+        let n = M - 1;
+        let xs = &x.as_slice()[..n];
+        let v = x[n].max(1e-3);
+        let mut j = vec![0.0; n * n];
+        self.model.jacobian_into(xs, v, &mut j);
+        out.fill(0.0);
+        for c in 0..n {
+            for r in 0..n {
+                out[(r, c)] = j[c * n + r];
+            }
+        }
         let h = 1e-6 * v;
-        let mut xp = *x;
-        xp[4] += h;
-        let mut xm = *x;
-        xm[4] -= h;
-        let dv = (self.rhs(&xp, p) - self.rhs(&xm, p)) / (2.0 * h);
-        let mut out = SMatrix::<f64, 5, 5>::zeros();
-        out.fixed_view_mut::<4, 4>(0, 0).copy_from(&j);
-        out.fixed_view_mut::<4, 1>(0, 4)
-            .copy_from(&dv.fixed_rows::<4>(0));
+        let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
+        self.model.rhs_into(xs, (x[n] + h).max(1e-3), &mut fp);
+        self.model.rhs_into(xs, (x[n] - h).max(1e-3), &mut fm);
+        for r in 0..n {
+            out[(r, n)] = (fp[r] - fm[r]) / (2.0 * h);
+        }
         out
     }
     fn switch_count(&self) -> usize {
+        // the vehicle's count does not depend on its const size
         VectorField::<4>::switch_count(self.model)
     }
-    fn switch_value(&self, k: usize, x: &SVector<f64, 5>) -> f64 {
-        VectorField::<4>::switch_value(self.model, k, &x.fixed_rows::<4>(0).into_owned())
+    fn switch_value(&self, k: usize, x: &SVector<f64, M>) -> f64 {
+        if !self.fits(M) {
+            return f64::NAN;
+        }
+        self.model.flange_switch(k, &x.as_slice()[..M - 1])
     }
 }
 

@@ -24,8 +24,8 @@ pub enum RampError {
         /// the rule it breaks
         rule: &'static str,
     },
-    /// The ramp method runs on the 4-state wheelset only (so far).
-    #[error("the ramp method runs on the single wheelset (4 states); this model has {0} states")]
+    /// No ramp is compiled for this state size (4, 12, 14, 28 and 34 are).
+    #[error("no ramp is compiled for {0} states (4, 12, 14, 28 and 34 are)")]
     States(usize),
     /// The integration failed.
     #[error("integration failed at t = {t} s, V = {speed} m/s: {source}")]
@@ -130,14 +130,14 @@ impl RampOptions {
     }
 }
 
-/// One peak of |y| in the ramp's history.
+/// One peak of |y| of the leading wheelset in the ramp's history.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnvelopePoint {
     /// time of the peak (s)
     pub t_s: f64,
     /// speed at the peak (m/s)
     pub speed_m_s: f64,
-    /// peak lateral amplitude |y| (m)
+    /// peak lateral amplitude |y| of the leading wheelset (m)
     pub amplitude_m: f64,
 }
 
@@ -145,7 +145,8 @@ pub struct EnvelopePoint {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum RampStop {
     /// The peak amplitude fell below the threshold for good: the run went on until it was
-    /// below a tenth of it (and the EN 14363 r.m.s. below its limit), or to `end_speed`.
+    /// below a tenth of it (and every wheelset's EN 14363 r.m.s. below its limit), or to
+    /// `end_speed`.
     Died,
     /// Still hunting at `end_speed`; `amplitude_m` is the last peak (m).
     StillHunting {
@@ -174,18 +175,27 @@ pub struct RampResult {
     pub options: RampOptions,
     /// sampling interval of the history (s)
     pub sample_interval_s: f64,
-    /// the last peak amplitude of the settle phase (m)
+    /// the larger of the last two peak amplitudes of the settle phase (m): the cycle's max|y|
+    /// also when the cycle is asymmetric
     pub start_amplitude_m: f64,
-    /// relative change of the peak amplitude over the last 10 % of the settle phase (–):
+    /// relative change of the cycle's amplitude (the larger of two successive peaks) over the
+    /// last 10 % of the settle phase (–):
     /// ≈ 0 when the motion had settled on a cycle; clearly negative when it was still dying
     /// out (the start speed is below the nonlinear critical speed, or `settle` is too short)
     pub settle_drift_rel: f64,
-    /// every peak of |y|, settle phase included
+    /// every peak of the leading wheelset's |y|, settle phase included
     pub envelope: Vec<EnvelopePoint>,
-    /// the EN 14363 evaluation (absent when there was no hunting at the start)
+    /// the EN 14363 evaluation of the worst wheelset ([`worst_wheelset`]; the only one of a
+    /// single wheelset): a copy of `en14363_wheelsets[en14363_worst]`; absent when there was
+    /// no hunting at the start
     pub en14363: Option<En14363>,
-    /// speed at which the EN 14363 sliding r.m.s. dropped below the limit for good (m/s),
-    /// when it was ever above it
+    /// the EN 14363 evaluation of every wheelset, front to rear (empty when there was no
+    /// hunting at the start)
+    pub en14363_wheelsets: Vec<En14363>,
+    /// index into `en14363_wheelsets` of the worst wheelset, on which the verdict is judged
+    pub en14363_worst: Option<usize>,
+    /// speed at which the worst wheelset's EN 14363 sliding r.m.s. dropped below the limit for
+    /// good (m/s), when it was ever above it: below it every wheelset is below its limit
     pub en14363_speed_m_s: Option<f64>,
     /// simulated time, settle included (s)
     pub simulated_s: f64,
@@ -260,20 +270,28 @@ fn refine_peak(a: &Sample, b: &Sample) -> EnvelopePoint {
     }
 }
 
-/// The streaming analysis of the history: peaks, ΣY, and the EN 14363 filter and window.
+/// The streaming analysis of the history: peaks of the leading wheelset's y, every
+/// wheelset's ΣY, and one EN 14363 filter and window per wheelset.
 struct Pipeline<'a> {
     model: &'a Vehicle,
+    /// the model's state count; the speed is the state after them
+    states: usize,
+    /// index of the leading wheelset's ẏ: its y is coordinate 0, so ẏ is state `dofs`
+    ydot: usize,
     prev: Option<Sample>,
     envelope: Vec<EnvelopePoint>,
-    /// ΣY samples (t, speed, distance, ΣY) held until f0 is known
-    pending: Vec<(f64, f64, f64, f64)>,
-    en: Option<EnStream>,
+    /// (t, speed, distance, ΣY per wheelset) samples held until f0 is known
+    pending: Vec<(f64, f64, f64, Vec<f64>)>,
+    /// one stream per wheelset, front to rear, once f0 is known
+    en: Option<Vec<EnStream>>,
 }
 
 impl<'a> Pipeline<'a> {
     fn new(model: &'a Vehicle) -> Self {
         Self {
             model,
+            states: model.states(),
+            ydot: model.dofs(),
             prev: None,
             envelope: Vec::new(),
             pending: Vec::new(),
@@ -281,16 +299,17 @@ impl<'a> Pipeline<'a> {
         }
     }
 
-    fn push(&mut self, t: f64, x: &SVector<f64, 5>) {
-        let speed = x[4];
+    /// Takes the sample (t, x) with x the model's states followed by the speed.
+    fn push(&mut self, t: f64, x: &[f64]) {
+        let (xs, speed) = (&x[..self.states], x[self.states]);
         let distance = match self.prev {
             Some(p) => p.distance + 0.5 * (t - p.t) * (p.speed + speed),
             None => 0.0,
         };
         let cur = Sample {
             t,
-            y: x[0],
-            ydot: x[2],
+            y: xs[0],
+            ydot: xs[self.ydot],
             speed,
             distance,
         };
@@ -301,9 +320,13 @@ impl<'a> Pipeline<'a> {
             }
         }
         self.prev = Some(cur);
-        let sy = sum_of_guiding_forces(self.model, &[x[0], x[1], x[2], x[3]], speed);
+        let sy = self.model.guiding_forces(xs, speed);
         match self.en.as_mut() {
-            Some(en) => en.push(t, speed, distance, sy),
+            Some(streams) => {
+                for (en, &f) in streams.iter_mut().zip(&sy) {
+                    en.push(t, speed, distance, f);
+                }
+            }
             None => self.pending.push((t, speed, distance, sy)),
         }
     }
@@ -312,27 +335,48 @@ impl<'a> Pipeline<'a> {
         self.envelope.last().map_or(0.0, |p| p.amplitude_m)
     }
 
-    /// The last peak amplitude before time `t` (m); 0 if none.
-    fn amplitude_before(&self, t: f64) -> f64 {
+    /// Whether every wheelset's last sliding r.m.s. is below its limit (true before the
+    /// streams start).
+    fn en_below_limit(&self) -> bool {
+        self.en
+            .as_ref()
+            .is_none_or(|s| s.iter().all(EnStream::below_limit))
+    }
+
+    /// The larger of the last two peak amplitudes before time `t` (m; 0 if none): one maximum
+    /// and one minimum of y, so that an asymmetric cycle (whose two sides differ: the DTU
+    /// bogie's large cycle reaches 10.1 mm on one side and 5 mm on the other) is measured by
+    /// its larger side whichever peak came last.
+    fn cycle_amplitude_before(&self, t: f64) -> f64 {
         self.envelope
             .iter()
             .rev()
-            .find(|p| p.t_s < t)
-            .map_or(0.0, |p| p.amplitude_m)
+            .filter(|p| p.t_s < t)
+            .take(2)
+            .map(|p| p.amplitude_m)
+            .fold(0.0, f64::max)
     }
 
-    /// Measures f0 on the peaks after `t_from` (or on all of them), builds the EN 14363
-    /// stream and feeds it the ΣY samples held so far.
+    /// Measures f0 on the peaks after `t_from` (or on all of them), builds one EN 14363 stream
+    /// per wheelset (the same f0 for all: the vehicle hunts at one frequency) and feeds them
+    /// the ΣY samples held so far.
     fn start_en14363(&mut self, t_from: f64, dt: f64) {
         let f0 = self
             .frequency_after(t_from)
             .or_else(|| self.frequency_after(0.0));
+        // Q0 = W/2: the study's axle load W is the whole vertical load on the axle's two
+        // contacts (MODEL §2, §11), bogie and car body included
         let limit = en14363_limit(self.model.contact.params.axle_load / 2.0);
-        let mut en = EnStream::new(f0, dt, limit);
+        let wheelsets = self.model.wheelset_dofs().len();
+        let mut streams: Vec<EnStream> = (0..wheelsets)
+            .map(|_| EnStream::new(f0, dt, limit))
+            .collect();
         for (t, v, s, sy) in self.pending.drain(..) {
-            en.push(t, v, s, sy);
+            for (en, &f) in streams.iter_mut().zip(&sy) {
+                en.push(t, v, s, f);
+            }
         }
-        self.en = Some(en);
+        self.en = Some(streams);
     }
 
     /// Hunting frequency (Hz) from the mean spacing of the peaks after `t_from` (each peak is
@@ -348,6 +392,30 @@ impl<'a> Pipeline<'a> {
         (peaks.len() >= 3 && last > first)
             .then(|| (peaks.len() - 1) as f64 / (2.0 * (last - first)))
     }
+
+    /// Every wheelset's evaluation, named after its body.
+    fn finish_en14363(&mut self) -> Vec<En14363> {
+        let names: Vec<String> = self
+            .model
+            .bodies
+            .iter()
+            .filter(|b| b.kind == crate::model::BodyKind::Wheelset)
+            .map(|b| b.name.clone())
+            .collect();
+        self.en
+            .take()
+            .unwrap_or_default()
+            .into_iter()
+            .enumerate()
+            .map(|(k, en)| {
+                let name = names
+                    .get(k)
+                    .cloned()
+                    .unwrap_or_else(|| format!("wheelset {}", k + 1));
+                en.finish(k, name)
+            })
+            .collect()
+    }
 }
 
 /// Runs the phases of a ramp: chunked integration (so that the sample times need not be held
@@ -361,16 +429,17 @@ struct Runner<'a> {
 }
 
 impl Runner<'_> {
-    /// Integrates `field` from `x` (at global time `t0`) for `duration` s, sampling every
-    /// `dt`; after each chunk `stop` may end the phase. Returns the final state and time.
-    fn run(
+    /// Integrates `field` (`M` = the model's states + 1) from `x` (at global time `t0`) for
+    /// `duration` s, sampling every `dt`; after each chunk `stop` may end the phase. Returns
+    /// the final state and time.
+    fn run<const M: usize>(
         &mut self,
         field: &RampField<'_>,
-        mut x: SVector<f64, 5>,
+        mut x: SVector<f64, M>,
         t0: f64,
         duration: f64,
         stop: &dyn Fn(&Pipeline<'_>) -> bool,
-    ) -> Result<(SVector<f64, 5>, f64), RampError> {
+    ) -> Result<(SVector<f64, M>, f64), RampError> {
         // 2000 samples (4 s at 2 ms): a restart costs one starting-step choice, negligible
         const CHUNK_SAMPLES: usize = 2000;
         let dt = self.dt;
@@ -384,7 +453,7 @@ impl Runner<'_> {
             // sample times by index, not by accumulation
             let base = t0 + done as f64 * dt;
             let pipe = &mut self.pipe;
-            let mut observe = |ts: f64, xs: &SVector<f64, 5>| pipe.push(base + ts, xs);
+            let mut observe = |ts: f64, xs: &SVector<f64, M>| pipe.push(base + ts, xs.as_slice());
             let sol = integrate_observed(
                 field,
                 0.0,
@@ -396,7 +465,7 @@ impl Runner<'_> {
             )
             .map_err(|source| RampError::Ode {
                 t: base,
-                speed: x[4],
+                speed: x[M - 1],
                 source,
             })?;
             x = sol.x;
@@ -411,11 +480,23 @@ impl Runner<'_> {
     }
 }
 
-/// The ramp method: settle at `start_speed` from $y(0) = y_0$, then decelerate at `rate`
-/// until the peak amplitude has fallen below `threshold` for good (below a tenth of it) or
-/// `end_speed` is reached. See the module docs for what the answer means and how it errs.
+/// The ramp method on a model of any layout: settle at `start_speed` from the leading
+/// wheelset displaced by $y_0$ (all else at rest), then decelerate at `rate` until the leading
+/// wheelset's peak amplitude has fallen below `threshold` for good (below a tenth of it, with
+/// every wheelset's EN 14363 r.m.s. below its limit) or `end_speed` is reached. See the module
+/// docs for what the answer means and how it errs. A state size for which no ramp is compiled
+/// is [`RampError::States`].
 pub fn ramp(model: &Vehicle, opts: &RampOptions) -> Result<RampResult, RampError> {
-    if model.states() != 4 {
+    crate::with_states_plus_one!(model.states(), M => ramp_states::<M>(model, opts),
+        _ => Err(RampError::States(model.states())))
+}
+
+/// [`ramp`] with the field's size `M` = the model's states + 1.
+fn ramp_states<const M: usize>(
+    model: &Vehicle,
+    opts: &RampOptions,
+) -> Result<RampResult, RampError> {
+    if M != model.states() + 1 {
         return Err(RampError::States(model.states()));
     }
     opts.validate()?;
@@ -427,11 +508,13 @@ pub fn ramp(model: &Vehicle, opts: &RampOptions) -> Result<RampResult, RampError
         steps: 0,
         rhs_evals: 0,
     };
-    let x0 = SVector::<f64, 5>::new(opts.y0, 0.0, 0.0, 0.0, opts.start_speed);
+    let mut x0 = SVector::<f64, M>::zeros();
+    x0[0] = opts.y0;
+    x0[M - 1] = opts.start_speed;
     let settle = RampField { model, rate: 0.0 };
     let (x, t) = run.run(&settle, x0, 0.0, opts.settle, &|_| false)?;
-    let start_amplitude_m = run.pipe.last_amplitude();
-    let earlier = run.pipe.amplitude_before(0.9 * opts.settle);
+    let start_amplitude_m = run.pipe.cycle_amplitude_before(f64::INFINITY);
+    let earlier = run.pipe.cycle_amplitude_before(0.9 * opts.settle);
     let mut result = RampResult {
         quantity: RAMP_QUANTITY,
         died_at_m_s: None,
@@ -444,6 +527,8 @@ pub fn ramp(model: &Vehicle, opts: &RampOptions) -> Result<RampResult, RampError
         settle_drift_rel: (start_amplitude_m - earlier) / start_amplitude_m,
         envelope: Vec::new(),
         en14363: None,
+        en14363_wheelsets: Vec::new(),
+        en14363_worst: None,
         en14363_speed_m_s: None,
         simulated_s: t,
         steps: run.steps,
@@ -460,13 +545,15 @@ pub fn ramp(model: &Vehicle, opts: &RampOptions) -> Result<RampResult, RampError
     };
     let duration = (opts.start_speed - opts.end_speed) / opts.rate;
     let quiet = opts.threshold / 10.0;
-    let dead = |p: &Pipeline<'_>| {
-        p.last_amplitude() < quiet && p.en.as_ref().is_none_or(EnStream::below_limit)
-    };
+    let dead = |p: &Pipeline<'_>| p.last_amplitude() < quiet && p.en_below_limit();
     let (_, t) = run.run(&field, x, t, duration, &dead)?;
     (result.died_at_m_s, result.stop) = died_at(&run.pipe.envelope, opts.threshold);
+    result.en14363_wheelsets = run.pipe.finish_en14363();
     result.envelope = run.pipe.envelope;
-    result.en14363 = run.pipe.en.map(EnStream::finish);
+    result.en14363_worst = worst_wheelset(&result.en14363_wheelsets);
+    result.en14363 = result
+        .en14363_worst
+        .and_then(|k| result.en14363_wheelsets.get(k).cloned());
     result.en14363_speed_m_s = result.en14363.as_ref().and_then(|e| match e.verdict {
         En14363Verdict::DroppedBelow { speed_m_s } => Some(speed_m_s),
         _ => None,
