@@ -121,17 +121,12 @@ impl<const N: usize> Scan<'_, N> {
             if below.is_nan() || above.is_nan() || below.signum() == above.signum() {
                 continue;
             }
-            found.push(Crossing {
-                speed_m_s: h.speed,
-                frequency_hz: f_hz,
-                wavelength_m: h.speed / f_hz,
-                direction: if above > 0.0 {
-                    Direction::Onset
-                } else {
-                    Direction::Recovery
-                },
-                bracket_m_s: 2.0 * h.last_step,
-            });
+            found.push(Crossing::new(
+                h.speed,
+                h.omega,
+                above > 0.0,
+                2.0 * h.last_step,
+            ));
         }
         let net: i64 = found
             .iter()
@@ -241,18 +236,8 @@ impl<const N: usize> Scan<'_, N> {
         {
             return;
         }
-        let f_hz = z.1 / (2.0 * std::f64::consts::PI);
-        self.crossings.push(Crossing {
-            speed_m_s: root.x,
-            frequency_hz: f_hz,
-            wavelength_m: root.x / f_hz,
-            direction: if onset {
-                Direction::Onset
-            } else {
-                Direction::Recovery
-            },
-            bracket_m_s: root.bracket,
-        });
+        self.crossings
+            .push(Crossing::new(root.x, z.1, onset, root.bracket));
     }
 }
 

@@ -166,6 +166,24 @@ pub struct Crossing {
 }
 
 impl Crossing {
+    /// A crossing at `speed` (m/s) with angular frequency `omega` (rad/s); `onset` if the
+    /// pair moves into the right half-plane as the speed increases; `bracket` (m/s) as in
+    /// [`Crossing::bracket_m_s`].
+    pub(crate) fn new(speed: f64, omega: f64, onset: bool, bracket: f64) -> Self {
+        let f_hz = omega / (2.0 * std::f64::consts::PI);
+        Self {
+            speed_m_s: speed,
+            frequency_hz: f_hz,
+            wavelength_m: speed / f_hz,
+            direction: if onset {
+                Direction::Onset
+            } else {
+                Direction::Recovery
+            },
+            bracket_m_s: bracket,
+        }
+    }
+
     /// The eigenpair of $J(V)$ that crossed, at the crossing speed: the eigenvalue nearest
     /// $iω$ with its right eigenvector (`None` if the eigen-decomposition fails).
     pub fn eigenpair<const N: usize>(&self, sys: &LinearSystem<N>) -> Option<EigenPair> {
@@ -324,18 +342,7 @@ fn quartic_scan<const N: usize>(
                 let omega = omega2.sqrt();
                 // sign(Re) = −sign(Δ3·a3): Δ3 going down with a3 > 0 is an onset.
                 let rising = (d - d_prev) * at[0] < 0.0;
-                let f_hz = omega / (2.0 * std::f64::consts::PI);
-                crossings.push(Crossing {
-                    speed_m_s: root.x,
-                    frequency_hz: f_hz,
-                    wavelength_m: root.x / f_hz,
-                    direction: if rising {
-                        Direction::Onset
-                    } else {
-                        Direction::Recovery
-                    },
-                    bracket_m_s: root.bracket,
-                });
+                crossings.push(Crossing::new(root.x, omega, rising, root.bracket));
             }
         }
         if a_prev[3].signum() != a[3].signum() {
