@@ -440,6 +440,36 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
         }
         jac
     }
+    /// $J\Phi$ with $J = \begin{pmatrix} 0 & I \\ J_q & J_{\dot q} \end{pmatrix}$: the upper
+    /// half of the product is the lower half of $\Phi$ (exactly what the dense product gives),
+    /// the lower half the $n × 2n$ by $2n × 2n$ product, column by column as axpys.
+    fn rhs_variational(
+        &self,
+        x: &SVector<f64, N>,
+        v: f64,
+        phi: &SMatrix<f64, N, N>,
+    ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
+        let f = <Self as crate::system::ode::VectorField<N>>::rhs(self, x, v);
+        let j = <Self as crate::system::ode::VectorField<N>>::jacobian(self, x, v);
+        if N != self.states() || N % 2 != 0 {
+            return (f, j * phi);
+        }
+        let n = N / 2;
+        let mut out = SMatrix::<f64, N, N>::zeros();
+        let (js, ps) = (j.as_slice(), phi.as_slice());
+        for (c, col) in out.as_mut_slice().chunks_exact_mut(N).enumerate() {
+            let pc = &ps[c * N..(c + 1) * N];
+            let (top, bottom) = col.split_at_mut(n);
+            top.copy_from_slice(&pc[n..]);
+            for (k, &pk) in pc.iter().enumerate() {
+                let jk = &js[k * N + n..(k + 1) * N];
+                for (o, a) in bottom.iter_mut().zip(jk) {
+                    *o += a * pk;
+                }
+            }
+        }
+        (f, out)
+    }
     fn switch_count(&self) -> usize {
         if self.contact.flange.is_some() {
             2 * self.wheelset_dofs.len()

@@ -178,8 +178,7 @@ impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
     ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
         self.rhs_evals += 1;
         if self.variational {
-            let (fx, j) = self.field.rhs_jacobian(x, self.p);
-            (fx, j * phi)
+            self.field.rhs_variational(x, self.p, phi)
         } else {
             (self.field.rhs(x, self.p), SMatrix::zeros())
         }
@@ -224,16 +223,7 @@ impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
         let mut err = scaled_rms(&ex, &p0.x, &x1, &self.tol);
         if self.variational {
             let ep = combine(&SMatrix::zeros(), h, &E, &kp);
-            // Per-column control for the single wheelset (fewer steps, measured); entry by
-            // entry for more states: on the 12- and 28-state vehicles the per-column control
-            // left Newton unable to pass the branch's folds (the bogie stopped at its 150.5 m/s
-            // fold, the car at 222.7 m/s), entry by entry passes them (measured on
-            // studies/dtu-cooperrider-{bogie,car}.toml).
-            let e_phi = if N <= 4 {
-                phi_rms(&ep, &p0.phi, &phi1, &self.tol)
-            } else {
-                scaled_rms(&ep, &p0.phi, &phi1, &self.tol)
-            };
+            let e_phi = phi_rms(&ep, &p0.phi, &phi1, &self.tol);
             err = err.max(e_phi);
         }
         let end = Point {
