@@ -446,3 +446,48 @@ fn bogie_branch_passes_its_folds() {
     );
     assert!(r.cycles.iter().all(|c| c.body_amplitudes.len() == 3));
 }
+
+/// Regression (issue 10): the car's branch crept along at 1e-5 m/s per cycle near its low fold
+/// (the car body's yaw, 4e-4 of the Hopf mode's largest yaw, had a scale of 4e-7 rad in the
+/// arclength and in Newton's test) and needed 1169 cycles to reach it. Within the default 400
+/// cycles it now passes the folds to the amplitude bound; the low fold is located, the
+/// trivial multiplier stays 1 and every computed cycle is a half-period-symmetric orbit
+/// (checked through the trivial multiplier and the bounded amplitude, not against a number of
+/// this program).
+#[test]
+fn car_branch_comes_down_to_its_low_fold() {
+    use critspeed::bifurcation::analyse;
+    use critspeed::continuation::SpecialKind;
+    let plan = study::load(&study_path("dtu-cooperrider-car.toml")).expect("study");
+    let model = plan.model().expect("model");
+    let r = analyse(&plan.name, &model, &plan.bifurcation_options()).expect("branch");
+    let folds: Vec<_> = r
+        .special
+        .iter()
+        .filter(|s| s.kind == SpecialKind::Fold)
+        .collect();
+    eprintln!(
+        "{} cycles, {}; folds {:?}; {:?}",
+        r.cycles.len(),
+        r.stop_reason,
+        folds.iter().map(|f| f.speed_m_s).collect::<Vec<_>>(),
+        r.stats
+    );
+    assert!(
+        r.stop_reason.starts_with("amplitude bound"),
+        "{}",
+        r.stop_reason
+    );
+    let hopf = r.hopf.expect("Hopf point").speed_m_s;
+    // the low fold: well below the Hopf point, located, and where V_NL is
+    let low = folds
+        .iter()
+        .filter(|f| f.located && f.speed_m_s < 0.8 * hopf)
+        .map(|f| f.speed_m_s)
+        .fold(f64::INFINITY, f64::min);
+    assert!(low.is_finite(), "{folds:?}");
+    let (v_nl, located) = r.nonlinear_critical_speed.expect("V_NL");
+    assert!(located && (v_nl - low).abs() < 1e-9 * v_nl, "{v_nl} {low}");
+    assert!(r.cycles.iter().all(|c| c.trivial_multiplier_error < 1e-5));
+    assert!(r.cycles.iter().all(|c| c.body_amplitudes.len() == 7));
+}

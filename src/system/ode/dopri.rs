@@ -102,10 +102,12 @@ pub(super) struct Rk<'a, const N: usize, F> {
     pub rhs_evals: usize,
 }
 
-/// $s = y + h\sum_j a_j k_j$ (at most 7 terms), entry by entry: each entry's sum runs over the
-/// terms in order (the same additions as one pass per term), but the result is written once
-/// instead of once per term: on the 28-state car's $\Phi$ (6 KB per matrix) the passes per
-/// term were memory traffic.
+/// $s = y + h\sum_j a_j k_j$ (at most 7 terms). Blocks of 64 entries or more (Φ of 8 states
+/// and up) are combined entry by entry: each entry's sum runs over the terms in order (the
+/// same additions as one pass per term, so the same result to the bit), but the result is
+/// written once instead of once per term: on the 28-state car's $\Phi$ (6 KB per matrix) the
+/// passes per term were memory traffic (the bogie's diagram took 1.6× less CPU). Smaller
+/// blocks keep one pass per term, faster there.
 #[inline(always)]
 fn combine<const R: usize, const CC: usize>(
     y: &SMatrix<f64, R, CC>,
@@ -113,6 +115,18 @@ fn combine<const R: usize, const CC: usize>(
     a: &[f64],
     k: &[SMatrix<f64, R, CC>],
 ) -> SMatrix<f64, R, CC> {
+    if R * CC < 64 {
+        // small blocks (the wheelset's x and Φ, every state vector): one pass per term is
+        // faster than the dispatch below
+        let mut s = *y;
+        for (aj, kj) in a.iter().zip(k) {
+            let c = h * aj;
+            for (si, ki) in s.iter_mut().zip(kj.iter()) {
+                *si += c * ki;
+            }
+        }
+        return s;
+    }
     match a.len().min(k.len()) {
         0 => *y,
         1 => combine_n::<R, CC, 1>(y, h, a, k),
@@ -171,9 +185,36 @@ fn scaled_rms<const R: usize, const CC: usize>(
 /// to its own relative tolerance: the entrywise test resolved the decay of the fast creep modes
 /// (the zeros of $\Phi(0) = I$ filling in, then the decaying columns) down to `atol`. On the
 /// wheelset's cone branch (rtol 1e-10) this takes a quarter fewer steps than the entrywise
-/// test, with trivial multipliers still within 2.5e-12 of 1. (Loosening $\Phi$'s tolerance
-/// further, 10 or 100 times the state's, saves another quarter of the steps on the cone but
-/// stalls Newton near the fold of the S1002 branch: not done.)
+/// test, with trivial multipliers still within 2.5e-12 of 1; on the DTU bogie and car 40 %
+/// fewer (241 against 397 and 207 against 357 steps per linearisation). (Loosening $\Phi$'s
+/// tolerance further, 10 or 100 times the state's, saves another quarter of the steps on the
+/// cone but stalls Newton near the fold of the S1002 branch: not done.)
+///
+/// **Why the vehicles' Newton failed at folds with this control** (it was entrywise for
+/// N > 4 until the cause was found), measured on `studies/dtu-cooperrider-{bogie,car}.toml`:
+///
+/// * Two things, not one. On the car the continuation scaled each coordinate by its own share
+///   of the Hopf eigenvector: the car body's yaw got a scale of 4e-7 rad, so Newton's
+///   scaled tolerance (1e-9) asked for that yaw to 4e-16 rad, far below what the integration
+///   resolves, and only the entrywise control, which keeps that small row of $\Phi$ accurate
+///   relative to itself, let Newton converge at all (slowly: the car crept along at 1e-5 m/s
+///   per cycle near its 149.8 m/s fold, 1169 cycles). The scales are now per kind of
+///   coordinate (`bifurcation::coordinate_shares`).
+/// * With sane scales the bogie still stopped at its 150.5 m/s fold (Newton: 8 iterations
+///   without reaching 10 rtol), with one or two shooting segments alike, while the entrywise
+///   control passed it. These orbits cross the contact table's curvature jumps (the table is
+///   C¹, so $J$ jumps there and the error estimate of $\Phi$, whose derivative is $J\Phi$,
+///   is not asymptotically valid): a fifth of the steps are rejected and the trivial
+///   multiplier is only within 1e-7 of 1 (1e-12 on the cone). Newton with an inexact matrix
+///   converges linearly at a rate of about $\|A^{-1}\delta A\|$, and near a fold the
+///   (x0, T) block is nearly singular, so $\|A^{-1}\|$ grows; the per-column control, which
+///   lets every entry of a column carry an error of rtol times the column's largest entry,
+///   leaves $\delta A$ larger in the small entries (position rows are about ω ≈ 63 s⁻¹ smaller
+///   than velocity rows) than the entrywise control does, and the rate near 150.5 m/s was too
+///   slow for 8 iterations to reach 10 rtol. (A mechanism consistent with the measurements,
+///   not proven: the Newton rate itself was not logged.) Newton at 100 rtol for vehicles
+///   (`bifurcation::newton_tol`) passes all three folds of the bogie and the car with this
+///   control; the folds and V_NL move by about 1e-8 m/s.
 fn phi_rms<const N: usize>(
     e: &SMatrix<f64, N, N>,
     y0: &SMatrix<f64, N, N>,
