@@ -453,7 +453,7 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
     ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
         let f = <Self as crate::system::ode::VectorField<N>>::rhs(self, x, v);
         let j = <Self as crate::system::ode::VectorField<N>>::jacobian(self, x, v);
-        if N != self.states() || N % 2 != 0 || N <= 8 {
+        if N != self.states() || !N.is_multiple_of(2) || N <= 8 {
             // (the single wheelset: the dense product, cheaper than gathering at this size)
             return (f, j * phi);
         }
