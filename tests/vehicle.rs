@@ -450,10 +450,8 @@ fn bogie_branch_passes_its_folds() {
 /// Regression (issue 10): the car's branch crept along at 1e-5 m/s per cycle near its low fold
 /// (the car body's yaw, 4e-4 of the Hopf mode's largest yaw, had a scale of 4e-7 rad in the
 /// arclength and in Newton's test) and needed 1169 cycles to reach it. Within the default 400
-/// cycles it now passes the folds to the amplitude bound; the low fold is located, the
-/// trivial multiplier stays 1 and every computed cycle is a half-period-symmetric orbit
-/// (checked through the trivial multiplier and the bounded amplitude, not against a number of
-/// this program).
+/// cycles it now passes the folds to the amplitude bound; the low fold is located and is V_NL,
+/// and the trivial multiplier of every cycle is 1 (no number of this program is copied).
 #[test]
 fn car_branch_comes_down_to_its_low_fold() {
     use critspeed::bifurcation::analyse;
@@ -488,6 +486,25 @@ fn car_branch_comes_down_to_its_low_fold() {
     assert!(low.is_finite(), "{folds:?}");
     let (v_nl, located) = r.nonlinear_critical_speed.expect("V_NL");
     assert!(located && (v_nl - low).abs() < 1e-9 * v_nl, "{v_nl} {low}");
-    assert!(r.cycles.iter().all(|c| c.trivial_multiplier_error < 1e-5));
+    // The trivial multiplier is 1. At a fold a second multiplier passes 1 and the two form a
+    // Jordan block, whose eigenvalues move like the square root of the error of Φ (3e-5 for
+    // 1e-9): so 1e-5 where the second-nearest multiplier is 0.05 or more away from 1, 1e-4
+    // everywhere.
+    for c in &r.cycles {
+        let mut d: Vec<f64> = c
+            .multipliers
+            .iter()
+            .map(|&(re, im)| (re - 1.0).hypot(im))
+            .collect();
+        d.sort_by(f64::total_cmp);
+        let gap = d.get(1).copied().unwrap_or(0.0);
+        let bound = if gap > 0.05 { 1e-5 } else { 1e-4 };
+        assert!(
+            c.trivial_multiplier_error < bound,
+            "{} m/s: {} (second multiplier {gap} from 1)",
+            c.speed_m_s,
+            c.trivial_multiplier_error
+        );
+    }
     assert!(r.cycles.iter().all(|c| c.body_amplitudes.len() == 7));
 }
