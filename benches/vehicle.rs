@@ -6,11 +6,17 @@
 //! * `vehicle/map_bogie_20x20`: a 20×20 stability map of the bogie (V_L and V_H over
 //!   primary longitudinal stiffness × secondary yaw damping), on the machine's threads.
 //!
-//! The car's whole bifurcation diagram is timed by the command (`critspeed bifurcation
-//! studies/dtu-cooperrider-car.toml`), not here: at about two minutes a run, criterion's ten
-//! samples would take longer than the rest of the benches together.
+//! * `vehicle/diagram_bogie/{1,2}`: the bogie's whole bifurcation diagram (Hopf point, the
+//!   branch through its three folds to 7 mm), library call, on a rayon pool of 1 and 2 threads
+//!   (the default segments: one per thread).
+//! * `vehicle/diagram_car_60/{1,2}`: the first 60 cycles of the car's diagram (through the
+//!   torus point and the 222.9 m/s fold), the same way. The whole car diagram (about 190
+//!   cycles, 15 s of CPU) is timed by the command (`critspeed bifurcation
+//!   studies/dtu-cooperrider-car.toml`): ten samples of it would take longer than the rest of
+//!   the benches together.
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use critspeed::bifurcation;
 use critspeed::contact::creep::CreepLaw;
 use critspeed::stability::{critical_speeds, LinearSystem};
 use critspeed::study;
@@ -75,6 +81,46 @@ fn benches(c: &mut Criterion) {
             sweep::run(black_box(&sweep), &opts, None).map(|r| r.rows.len())
         })
     });
+    group.finish();
+    diagrams(c, &bp, &bogie, &cp, &car);
+}
+
+/// The bifurcation diagrams on rayon pools of 1 and 2 threads.
+fn diagrams(
+    c: &mut Criterion,
+    bp: &study::Plan,
+    bogie: &critspeed::model::Vehicle,
+    cp: &study::Plan,
+    car: &critspeed::model::Vehicle,
+) {
+    let mut group = c.benchmark_group("vehicle");
+    group.sample_size(10);
+    group.measurement_time(std::time::Duration::from_secs(60));
+    let bogie_opts = bp.bifurcation_options();
+    let mut car_opts = cp.bifurcation_options();
+    car_opts.max_points = 60;
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool");
+        group.bench_with_input(
+            BenchmarkId::new("diagram_bogie", threads),
+            &threads,
+            |b, _| {
+                b.iter(|| {
+                    pool.install(|| bifurcation::analyse("bogie", black_box(bogie), &bogie_opts))
+                })
+            },
+        );
+        group.bench_with_input(
+            BenchmarkId::new("diagram_car_60", threads),
+            &threads,
+            |b, _| {
+                b.iter(|| pool.install(|| bifurcation::analyse("car", black_box(car), &car_opts)))
+            },
+        );
+    }
     group.finish();
 }
 

@@ -527,4 +527,65 @@ fn scan_eigenvalues_equal_faers_on_the_car() {
             }
         }
     }
+
+/// Regression (issue 10): the car's branch crept along at 1e-5 m/s per cycle near its low fold
+/// (the car body's yaw, 4e-4 of the Hopf mode's largest yaw, had a scale of 4e-7 rad in the
+/// arclength and in Newton's test) and needed 1169 cycles to reach it. Within the default 400
+/// cycles it now passes the folds to the amplitude bound; the low fold is located and is V_NL,
+/// and the trivial multiplier of every cycle is 1 (no number of this program is copied).
+#[test]
+fn car_branch_comes_down_to_its_low_fold() {
+    use critspeed::bifurcation::analyse;
+    use critspeed::continuation::SpecialKind;
+    let plan = study::load(&study_path("dtu-cooperrider-car.toml")).expect("study");
+    let model = plan.model().expect("model");
+    let r = analyse(&plan.name, &model, &plan.bifurcation_options()).expect("branch");
+    let folds: Vec<_> = r
+        .special
+        .iter()
+        .filter(|s| s.kind == SpecialKind::Fold)
+        .collect();
+    eprintln!(
+        "{} cycles, {}; folds {:?}; {:?}",
+        r.cycles.len(),
+        r.stop_reason,
+        folds.iter().map(|f| f.speed_m_s).collect::<Vec<_>>(),
+        r.stats
+    );
+    assert!(
+        r.stop_reason.starts_with("amplitude bound"),
+        "{}",
+        r.stop_reason
+    );
+    let hopf = r.hopf.expect("Hopf point").speed_m_s;
+    // the low fold: well below the Hopf point, located, and where V_NL is
+    let low = folds
+        .iter()
+        .filter(|f| f.located && f.speed_m_s < 0.8 * hopf)
+        .map(|f| f.speed_m_s)
+        .fold(f64::INFINITY, f64::min);
+    assert!(low.is_finite(), "{folds:?}");
+    let (v_nl, located) = r.nonlinear_critical_speed.expect("V_NL");
+    assert!(located && (v_nl - low).abs() < 1e-9 * v_nl, "{v_nl} {low}");
+    // The trivial multiplier is 1. At a fold a second multiplier passes 1 and the two form a
+    // Jordan block, whose eigenvalues move like the square root of the error of Φ (3e-5 for
+    // 1e-9): so 1e-5 where the second-nearest multiplier is 0.05 or more away from 1, 1e-4
+    // everywhere.
+    for c in &r.cycles {
+        let mut d: Vec<f64> = c
+            .multipliers
+            .iter()
+            .map(|&(re, im)| (re - 1.0).hypot(im))
+            .collect();
+        d.sort_by(f64::total_cmp);
+        let gap = d.get(1).copied().unwrap_or(0.0);
+        let bound = if gap > 0.05 { 1e-5 } else { 1e-4 };
+        assert!(
+            c.trivial_multiplier_error < bound,
+            "{} m/s: {} (second multiplier {gap} from 1)",
+            c.speed_m_s,
+            c.trivial_multiplier_error
+        );
+    }
+    assert!(r.cycles.iter().all(|c| c.body_amplitudes.len() == 7));
 }

@@ -9,6 +9,8 @@
 //! guard between consecutive tangents. Special points are found by sign changes along the
 //! branch and located by the Illinois method on the arclength from the last point.
 
+use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
+
 use nalgebra::{DMatrix, DVector, SVector};
 
 use super::orbit::{solve_dense, Floquet, NewtonStop, OrbitPoint, SegmentSeed, Shooting};
@@ -149,6 +151,34 @@ pub struct Branch<const N: usize> {
     pub special: Vec<SpecialPoint<N>>,
     /// why it ended
     pub stop: BranchStop,
+    /// where the work went
+    pub stats: BranchStats,
+}
+
+/// Solver statistics of a branch: where the work went (all counts include the location of
+/// special points).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BranchStats {
+    /// continuation steps whose corrector failed (each halves the step)
+    pub failed_steps: usize,
+    /// converged steps refused by the angle guard (each halves the step)
+    pub angle_rejections: usize,
+    /// correctors run to locate special points
+    pub locate_corrections: usize,
+    /// Newton iterations, i.e. shooting linearisations (failed correctors included)
+    pub newton_iterations: usize,
+    /// accepted integrator steps of the flows with their monodromy (all linearisations)
+    pub integrator_steps: usize,
+    /// integrator steps rejected by the error test (the same flows)
+    pub integrator_rejected: usize,
+}
+
+/// Counters the corrector adds to (atomic: the driver is shared by reference).
+#[derive(Default)]
+struct Counters {
+    newton: AtomicUsize,
+    steps: AtomicUsize,
+    rejected: AtomicUsize,
 }
 
 /// The corrector's result.
@@ -207,6 +237,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         zp: &DVector<f64>,
         tangent: &DVector<f64>,
         seed: Option<&SegmentSeed<N>>,
+        counters: &Counters,
     ) -> Result<Corrected<N>, NewtonStop> {
         let s = self.scale();
         let xr: SVector<f64, N> = SVector::from_fn(|i, _| zp[i]);
@@ -218,6 +249,9 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 .shooting
                 .linearise_from(&unpack::<N>(&z), last_seed.as_ref())
                 .map_err(|_| NewtonStop::Diverged)?;
+            counters.newton.fetch_add(1, Relaxed);
+            counters.steps.fetch_add(lin.steps, Relaxed);
+            counters.rejected.fetch_add(lin.rejected, Relaxed);
             last_seed = Some(lin.seed.clone());
             let mut a = DMatrix::zeros(N + 2, N + 2);
             a.view_mut((0, 0), (N, N + 2)).copy_from(&lin.jacobian);
@@ -280,7 +314,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
     ) -> Result<(OrbitPoint<N>, Floquet, usize), NewtonStop> {
         let mut pin = DVector::zeros(N + 2);
         pin[N + 1] = 1.0;
-        let c = self.correct(&pack(&guess), &pin, None)?;
+        let c = self.correct(&pack(&guess), &pin, None, &Counters::default())?;
         Ok((c.orbit, c.floquet, c.iterations))
     }
 
@@ -300,6 +334,8 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         let mut special = Vec::new();
         let mut last_failure = NewtonStop::Converged;
         let mut seed: Option<SegmentSeed<N>> = None;
+        let counters = Counters::default();
+        let mut stats = BranchStats::default();
         let stop = loop {
             if self.cancel.is_some_and(|c| c()) {
                 break BranchStop::Cancelled;
@@ -314,13 +350,15 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 };
             }
             let zp = self.predict(&z, &tangent, ds);
-            let c = match self.correct(&zp, &tangent, seed.as_ref()) {
+            let c = match self.correct(&zp, &tangent, seed.as_ref(), &counters) {
                 Ok(c) if c.tangent.dot(&tangent) >= p.max_angle.cos() || points.is_empty() => c,
                 Ok(_) => {
+                    stats.angle_rejections += 1;
                     ds *= 0.5;
                     continue;
                 }
                 Err(e) => {
+                    stats.failed_steps += 1;
                     last_failure = e;
                     ds *= 0.5;
                     continue;
@@ -337,7 +375,8 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 seed: c.seed.clone(),
             };
             if let Some(prev) = points.last() {
-                self.detect(prev, &point, points.len() - 1, ds, &mut special);
+                let at = (points.len() - 1, ds);
+                stats.locate_corrections += self.detect(prev, &point, at, &mut special, &counters);
             }
             let param = point.orbit.param;
             if let Some(report) = self.progress {
@@ -363,25 +402,34 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 break BranchStop::AmplitudeBound { amplitude };
             }
         };
+        stats.newton_iterations = counters.newton.load(Relaxed);
+        stats.integrator_steps = counters.steps.load(Relaxed);
+        stats.integrator_rejected = counters.rejected.load(Relaxed);
         Branch {
             points,
             special,
             stop,
+            stats,
         }
     }
 
-    /// Sign changes between consecutive points, each located along the arclength.
+    /// Sign changes between consecutive points, each located along the arclength from point
+    /// `a` (`at`: its index and the step to `b`); returns the correctors run.
     fn detect(
         &self,
         a: &BranchPoint<N>,
         b: &BranchPoint<N>,
-        index: usize,
-        ds: f64,
+        at: (usize, f64),
         out: &mut Vec<SpecialPoint<N>>,
-    ) {
+        counters: &Counters,
+    ) -> usize {
+        let index = at.0;
+        let mut runs = 0;
         let fold = |q: &Corrected<N>| q.tangent[N + 1];
         if a.tangent[N + 1].signum() != b.tangent[N + 1].signum() {
-            out.push(self.locate(a, index, ds, SpecialKind::Fold, &fold));
+            let (sp, n) = self.locate(a, at, SpecialKind::Fold, &fold, counters);
+            out.push(sp);
+            runs += n;
         }
         let crossing = |f: &Floquet| f.max_nontrivial - 1.0;
         if crossing(&a.floquet).signum() != crossing(&b.floquet).signum() {
@@ -392,24 +440,31 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 .is_some_and(|s| s.after == index && s.kind == SpecialKind::Fold);
             if let Some(kind) = kind.filter(|_| !near_fold) {
                 let g = |q: &Corrected<N>| q.floquet.max_nontrivial - 1.0;
-                out.push(self.locate(a, index, ds, kind, &g));
+                let (sp, n) = self.locate(a, at, kind, &g, counters);
+                out.push(sp);
+                runs += n;
             }
         }
+        runs
     }
 
-    /// Illinois on the arclength s ∈ (0, ds) from point `a` for a sign change of `g`.
+    /// Illinois on the arclength s ∈ (0, ds) from point `a` (`at`: its index and ds) for a
+    /// sign change of `g`; also returns the correctors run.
     fn locate(
         &self,
         a: &BranchPoint<N>,
-        index: usize,
-        ds: f64,
+        at: (usize, f64),
         kind: SpecialKind,
         g: &dyn Fn(&Corrected<N>) -> f64,
-    ) -> SpecialPoint<N> {
+        counters: &Counters,
+    ) -> (SpecialPoint<N>, usize) {
+        let (index, ds) = at;
         let za = pack(&a.orbit);
+        let runs = std::cell::Cell::new(0usize);
         let eval = |s: f64| {
+            runs.set(runs.get() + 1);
             let zp = self.predict(&za, &a.tangent, s);
-            self.correct(&zp, &a.tangent, Some(&a.seed)).ok()
+            self.correct(&zp, &a.tangent, Some(&a.seed), counters).ok()
         };
         let a_c = Corrected {
             orbit: a.orbit,
@@ -421,7 +476,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         };
         let (mut lo, mut glo) = (0.0, g(&a_c));
         let Some(end) = eval(ds) else {
-            return self.bracketed(kind, index, a, ds);
+            return (self.bracketed(kind, index, a, ds), runs.get());
         };
         let (mut hi, mut ghi) = (ds, g(&end));
         let mut best = end;
@@ -462,14 +517,15 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             best = c;
         }
         let bracket = (hi - lo).abs();
-        SpecialPoint {
+        let sp = SpecialPoint {
             kind,
             after: index,
             amplitude: (self.amplitude)(&best.orbit, &best.peaks),
             orbit: best.orbit,
             located: bracket <= self.params.locate_tol * ds.max(1.0),
             bracket,
-        }
+        };
+        (sp, runs.get())
     }
 
     fn bracketed(

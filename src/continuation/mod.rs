@@ -8,6 +8,7 @@ pub mod branch;
 pub mod orbit;
 
 pub use branch::{
-    Branch, BranchPoint, BranchStop, Continuation, ContinuationParams, SpecialKind, SpecialPoint,
+    Branch, BranchPoint, BranchStats, BranchStop, Continuation, ContinuationParams, SpecialKind,
+    SpecialPoint,
 };
 pub use orbit::{Floquet, NewtonStop, OrbitPoint, SegmentSeed, Shooting};

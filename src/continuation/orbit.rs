@@ -51,6 +51,7 @@ struct Flowed<const N: usize> {
     end: SVector<f64, N>,
     phi: Option<SMatrix<f64, N, N>>,
     steps: usize,
+    rejected: usize,
     peaks: SVector<f64, N>,
     h_first: f64,
 }
@@ -115,8 +116,10 @@ pub struct Linearised<const N: usize> {
     pub monodromy: SMatrix<f64, N, N>,
     /// state at the end of the shooting interval
     pub end: SVector<f64, N>,
-    /// integrator steps used (all segments)
+    /// integrator steps used (all segments, the flows with their monodromy)
     pub steps: usize,
+    /// integrator steps rejected by the error test (the same flows)
+    pub rejected: usize,
     /// the largest $|x_k|$ over the shooting interval, per component (located on the
     /// integrator's continuous extension); for a symmetric orbit the half period holds the
     /// maximum over the whole period
@@ -162,6 +165,7 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
             end: s.x,
             phi: s.monodromy,
             steps: s.stats.steps,
+            rejected: s.stats.rejected,
             peaks,
             h_first: s.h_first,
         })
@@ -226,11 +230,12 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
         };
         let dtau = self.horizon(1.0) / m as f64;
         let mut segments = Vec::with_capacity(m);
-        let (mut steps, mut peaks) = (0, SVector::<f64, N>::zeros());
+        let (mut steps, mut rejected, mut peaks) = (0, 0, SVector::<f64, N>::zeros());
         for (start, (a, b)) in starts.iter().zip(flows) {
             let (a, b) = (a?, b?);
             let phi = a.phi.ok_or(OdeError::NonFinite { t: 0.0 })?;
             steps += a.steps;
+            rejected += a.rejected;
             peaks = peaks.sup(&a.peaks);
             segments.push(Segment {
                 start: *start,
@@ -268,6 +273,7 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
             monodromy,
             end,
             steps,
+            rejected,
             peaks,
             seed: SegmentSeed { z: *z, segments },
         })

@@ -458,6 +458,51 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
         }
         jac
     }
+    /// $J\Phi$ with $J = \begin{pmatrix} 0 & I \\ J_q & J_{\dot q} \end{pmatrix}$: the upper
+    /// half of the product is the lower half of $\Phi$ (exactly what the dense product gives);
+    /// the lower half is the $n × 2n$ block times $\Phi$, over the block's nonzero entries only
+    /// (each body is joined to a few others: on the car about a third of the block is nonzero).
+    /// A NaN entry is kept, so it still reaches the integrator's finiteness test.
+    fn rhs_variational(
+        &self,
+        x: &SVector<f64, N>,
+        v: f64,
+        phi: &SMatrix<f64, N, N>,
+    ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
+        let f = <Self as crate::system::ode::VectorField<N>>::rhs(self, x, v);
+        let j = <Self as crate::system::ode::VectorField<N>>::jacobian(self, x, v);
+        if N != self.states() || !N.is_multiple_of(2) || N <= 8 {
+            // (the single wheelset: the dense product, cheaper than gathering at this size)
+            return (f, j * phi);
+        }
+        let n = N / 2;
+        // the lower block's nonzero entries, row by row (column index, value)
+        let mut entries: Vec<(usize, f64)> = Vec::with_capacity(n * N);
+        let mut starts = Vec::with_capacity(n + 1);
+        starts.push(0);
+        for i in n..N {
+            for k in 0..N {
+                let a = j[(i, k)];
+                if a.abs() > 0.0 || a.is_nan() {
+                    entries.push((k, a));
+                }
+            }
+            starts.push(entries.len());
+        }
+        let mut out = SMatrix::<f64, N, N>::zeros();
+        let ps = phi.as_slice();
+        for (c, col) in out.as_mut_slice().chunks_exact_mut(N).enumerate() {
+            let pc = &ps[c * N..(c + 1) * N];
+            let (top, bottom) = col.split_at_mut(n);
+            top.copy_from_slice(&pc[n..]);
+            for (o, w) in bottom.iter_mut().zip(starts.windows(2)) {
+                *o = entries[w[0]..w[1]]
+                    .iter()
+                    .fold(0.0, |s, &(k, a)| s + a * pc[k]);
+            }
+        }
+        (f, out)
+    }
     fn switch_count(&self) -> usize {
         if self.contact.flange.is_some() {
             2 * self.wheelset_dofs.len()

@@ -102,7 +102,12 @@ pub(super) struct Rk<'a, const N: usize, F> {
     pub rhs_evals: usize,
 }
 
-/// $s = y + h\sum_j a_j k_j$, written as a plain loop over a fixed-size matrix: no temporaries.
+/// $s = y + h\sum_j a_j k_j$ (at most 7 terms). Blocks of 64 entries or more (Φ of 8 states
+/// and up) are combined entry by entry: each entry's sum runs over the terms in order (the
+/// same additions as one pass per term, so the same result to the bit), but the result is
+/// written once instead of once per term: on the 28-state car's $\Phi$ (6 KB per matrix) the
+/// passes per term were memory traffic (the bogie's diagram took 1.6× less CPU). Smaller
+/// blocks keep one pass per term, faster there.
 #[inline(always)]
 fn combine<const R: usize, const CC: usize>(
     y: &SMatrix<f64, R, CC>,
@@ -110,12 +115,48 @@ fn combine<const R: usize, const CC: usize>(
     a: &[f64],
     k: &[SMatrix<f64, R, CC>],
 ) -> SMatrix<f64, R, CC> {
-    let mut s = *y;
-    for (aj, kj) in a.iter().zip(k) {
-        let c = h * aj;
-        for (si, ki) in s.iter_mut().zip(kj.iter()) {
-            *si += c * ki;
+    if R * CC < 64 {
+        // small blocks (the wheelset's x and Φ, every state vector): one pass per term is
+        // faster than the dispatch below
+        let mut s = *y;
+        for (aj, kj) in a.iter().zip(k) {
+            let c = h * aj;
+            for (si, ki) in s.iter_mut().zip(kj.iter()) {
+                *si += c * ki;
+            }
         }
+        return s;
+    }
+    match a.len().min(k.len()) {
+        0 => *y,
+        1 => combine_n::<R, CC, 1>(y, h, a, k),
+        2 => combine_n::<R, CC, 2>(y, h, a, k),
+        3 => combine_n::<R, CC, 3>(y, h, a, k),
+        4 => combine_n::<R, CC, 4>(y, h, a, k),
+        5 => combine_n::<R, CC, 5>(y, h, a, k),
+        6 => combine_n::<R, CC, 6>(y, h, a, k),
+        _ => combine_n::<R, CC, 7>(y, h, a, k),
+    }
+}
+
+/// [`combine`] with `M` terms (`a` and `k` hold at least `M`): the term loop unrolls and the
+/// entry loop vectorises.
+#[inline(always)]
+fn combine_n<const R: usize, const CC: usize, const M: usize>(
+    y: &SMatrix<f64, R, CC>,
+    h: f64,
+    a: &[f64],
+    k: &[SMatrix<f64, R, CC>],
+) -> SMatrix<f64, R, CC> {
+    let c: [f64; M] = std::array::from_fn(|j| h * a[j]);
+    let ks: [&[f64]; M] = std::array::from_fn(|j| k[j].as_slice());
+    let mut s = *y;
+    for (e, si) in s.as_mut_slice().iter_mut().enumerate() {
+        let mut acc = *si;
+        for j in 0..M {
+            acc += c[j] * ks[j][e];
+        }
+        *si = acc;
     }
     s
 }
@@ -144,9 +185,36 @@ fn scaled_rms<const R: usize, const CC: usize>(
 /// to its own relative tolerance: the entrywise test resolved the decay of the fast creep modes
 /// (the zeros of $\Phi(0) = I$ filling in, then the decaying columns) down to `atol`. On the
 /// wheelset's cone branch (rtol 1e-10) this takes a quarter fewer steps than the entrywise
-/// test, with trivial multipliers still within 2.5e-12 of 1. (Loosening $\Phi$'s tolerance
-/// further, 10 or 100 times the state's, saves another quarter of the steps on the cone but
-/// stalls Newton near the fold of the S1002 branch: not done.)
+/// test, with trivial multipliers still within 2.5e-12 of 1; on the DTU bogie and car 40 %
+/// fewer (241 against 397 and 207 against 357 steps per linearisation). (Loosening $\Phi$'s
+/// tolerance further, 10 or 100 times the state's, saves another quarter of the steps on the
+/// cone but stalls Newton near the fold of the S1002 branch: not done.)
+///
+/// **Why the vehicles' Newton failed at folds with this control** (it was entrywise for
+/// N > 4 until the cause was found), measured on `studies/dtu-cooperrider-{bogie,car}.toml`:
+///
+/// * Two things, not one. On the car the continuation scaled each coordinate by its own share
+///   of the Hopf eigenvector: the car body's yaw got a scale of 4e-7 rad, so Newton's
+///   scaled tolerance (1e-9) asked for that yaw to 4e-16 rad, far below what the integration
+///   resolves, and only the entrywise control, which keeps that small row of $\Phi$ accurate
+///   relative to itself, let Newton converge at all (slowly: the car crept along at 1e-5 m/s
+///   per cycle near its 149.8 m/s fold, 1169 cycles). The scales are now per kind of
+///   coordinate (`bifurcation::coordinate_shares`).
+/// * With sane scales the bogie still stopped at its 150.5 m/s fold (Newton: 8 iterations
+///   without reaching 10 rtol), with one or two shooting segments alike, while the entrywise
+///   control passed it. These orbits cross the contact table's curvature jumps (the table is
+///   C¹, so $J$ jumps there and the error estimate of $\Phi$, whose derivative is $J\Phi$,
+///   is not asymptotically valid): a fifth of the steps are rejected and the trivial
+///   multiplier is only within 1e-7 of 1 (1e-12 on the cone). Newton with an inexact matrix
+///   converges linearly at a rate of about $\|A^{-1}\delta A\|$, and near a fold the
+///   (x0, T) block is nearly singular, so $\|A^{-1}\|$ grows; the per-column control, which
+///   lets every entry of a column carry an error of rtol times the column's largest entry,
+///   leaves $\delta A$ larger in the small entries (position rows are about ω ≈ 63 s⁻¹ smaller
+///   than velocity rows) than the entrywise control does, and the rate near 150.5 m/s was too
+///   slow for 8 iterations to reach 10 rtol. (A mechanism consistent with the measurements,
+///   not proven: the Newton rate itself was not logged.) Newton at 100 rtol for vehicles
+///   (`bifurcation::newton_tol`) passes all three folds of the bogie and the car with this
+///   control; the folds and V_NL move by about 1e-8 m/s.
 fn phi_rms<const N: usize>(
     e: &SMatrix<f64, N, N>,
     y0: &SMatrix<f64, N, N>,
@@ -178,8 +246,7 @@ impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
     ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
         self.rhs_evals += 1;
         if self.variational {
-            let (fx, j) = self.field.rhs_jacobian(x, self.p);
-            (fx, j * phi)
+            self.field.rhs_variational(x, self.p, phi)
         } else {
             (self.field.rhs(x, self.p), SMatrix::zeros())
         }
@@ -224,16 +291,7 @@ impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
         let mut err = scaled_rms(&ex, &p0.x, &x1, &self.tol);
         if self.variational {
             let ep = combine(&SMatrix::zeros(), h, &E, &kp);
-            // Per-column control for the single wheelset (fewer steps, measured); entry by
-            // entry for more states: on the 12- and 28-state vehicles the per-column control
-            // left Newton unable to pass the branch's folds (the bogie stopped at its 150.5 m/s
-            // fold, the car at 222.7 m/s), entry by entry passes them (measured on
-            // studies/dtu-cooperrider-{bogie,car}.toml).
-            let e_phi = if N <= 4 {
-                phi_rms(&ep, &p0.phi, &phi1, &self.tol)
-            } else {
-                scaled_rms(&ep, &p0.phi, &phi1, &self.tol)
-            };
+            let e_phi = phi_rms(&ep, &p0.phi, &phi1, &self.tol);
             err = err.max(e_phi);
         }
         let end = Point {

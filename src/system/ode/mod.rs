@@ -60,6 +60,19 @@ pub trait VectorField<const N: usize>: Sync {
     fn rhs_jacobian(&self, x: &SVector<f64, N>, p: f64) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
         (self.rhs(x, p), self.jacobian(x, p))
     }
+    /// $f$ and the variational field $J\,\Phi$ at $(x; p)$ (each stage of the variational
+    /// equations). The default is [`rhs_jacobian`](Self::rhs_jacobian) and a dense product; a
+    /// second-order system $x = (q, \dot q)$, whose Jacobian's upper half is $[0 \; I]$,
+    /// overrides it to copy that half of the product (half the work of the dense one).
+    fn rhs_variational(
+        &self,
+        x: &SVector<f64, N>,
+        p: f64,
+        phi: &SMatrix<f64, N, N>,
+    ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
+        let (f, j) = self.rhs_jacobian(x, p);
+        (f, j * phi)
+    }
     /// Number of switching functions (surfaces where $f$ is not smooth); default 0.
     fn switch_count(&self) -> usize {
         0
