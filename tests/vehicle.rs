@@ -527,6 +527,7 @@ fn scan_eigenvalues_equal_faers_on_the_car() {
             }
         }
     }
+}
 
 /// Regression (issue 10): the car's branch crept along at 1e-5 m/s per cycle near its low fold
 /// (the car body's yaw, 4e-4 of the Hopf mode's largest yaw, had a scale of 4e-7 rad in the
