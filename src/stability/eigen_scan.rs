@@ -49,13 +49,25 @@ fn exchanged(lo: &End, hi: &End) -> usize {
     one_way(lo, hi) + one_way(hi, lo)
 }
 
-/// One end of a scan interval: speed, eigenvalues, unstable count, least damped real part.
+/// The sign of det J from its eigenvalues: the product of the real ones' signs (a complex
+/// pair contributes |λ|² > 0), so the grid needs no LU of its own to see a real eigenvalue
+/// cross zero.
+fn det_sign(ev: &[(f64, f64)]) -> f64 {
+    ev.iter()
+        .filter(|z| z.1 == 0.0)
+        .map(|z| if z.0 < 0.0 { -1.0 } else { 1.0 })
+        .product()
+}
+
+/// One end of a scan interval: speed, eigenvalues, unstable count, least damped real part,
+/// sign of det J.
 #[derive(Clone)]
 struct End {
     v: f64,
     ev: Vec<(f64, f64)>,
     count: usize,
     top: f64,
+    det_sign: f64,
 }
 
 struct Scan<'a, const N: usize> {
@@ -74,6 +86,7 @@ impl<const N: usize> Scan<'_, N> {
             v,
             count: unstable(&ev),
             top: top(&ev),
+            det_sign: det_sign(&ev),
             ev,
         })
     }
@@ -313,8 +326,7 @@ pub(super) fn eigen_scan<const N: usize>(
     opts: &LinearOptions,
 ) -> Result<CriticalSpeeds, LinearError> {
     let (lo, hi) = opts.speed_range;
-    let n = opts.grid_points.unwrap_or(EIGEN_GRID_POINTS);
-    let speed = |i: usize| lo + (hi - lo) * (i as f64) / ((n - 1) as f64);
+    let (n, speed) = super::grid(opts, EIGEN_GRID_POINTS);
     let det = |v: f64| determinant(&sys.jacobian(v));
     let mut scan = Scan {
         sys,
@@ -334,20 +346,17 @@ pub(super) fn eigen_scan<const N: usize>(
     }
     let stable_at_start = ends[0].ev.iter().all(|z| z.0 < 0.0);
     let mut divergence = Vec::new();
-    let mut d_prev = det(lo);
     for w in ends.windows(2) {
         let (prev, cur) = (&w[0], &w[1]);
         let swapped = exchanged(prev, cur);
         if (prev.count != cur.count || swapped > 0) && !scan.by_newton(prev, cur, swapped) {
             scan.interval(prev, cur, 0)?;
         }
-        let d = det(cur.v);
-        if d_prev.signum() != d.signum() && d_prev.is_finite() && d.is_finite() {
+        if prev.det_sign != cur.det_sign {
             let root = brent::root(det, prev.v, cur.v, opts.rel_tol * cur.v, 200);
             scan.evaluations += root.evaluations;
             divergence.push(root.x);
         }
-        d_prev = d;
     }
     let mut crossings = scan.crossings;
     crossings.sort_by(|a, b| a.speed_m_s.total_cmp(&b.speed_m_s));
@@ -371,6 +380,7 @@ mod tests {
             ev: Vec::new(),
             count: 0,
             top,
+            det_sign: 1.0,
         }
     }
 
@@ -390,5 +400,31 @@ mod tests {
             .map(|&v| end(v, s(v) - 1.0))
             .collect();
         assert!(refine_turns(&below).is_empty());
+    }
+
+    /// The sign of det J read from the eigenvalues equals the sign of the LU determinant, on
+    /// 6×6 matrices with one, two or no negative real eigenvalues and complex pairs.
+    #[test]
+    fn determinant_sign_from_eigenvalues_matches_lu() {
+        use nalgebra::SMatrix;
+        let (mut signs, mut compared) = ([0usize; 2], 0);
+        for k in 0..40 {
+            let j = SMatrix::<f64, 6, 6>::from_fn(|r, c| {
+                ((r * 7 + c * 3 + k * 11) as f64 * 0.37 + (r * c) as f64).sin()
+                    + if r == c { 0.1 * k as f64 - 2.0 } else { 0.0 }
+            });
+            let ev = eigenvalues(&j).expect("eigenvalues");
+            let det = determinant(&j);
+            if det.abs() < 1e-6 {
+                continue; // too near singular for either sign to mean anything
+            }
+            assert_eq!(det_sign(&ev), det.signum(), "matrix {k}: det {det}, {ev:?}");
+            signs[usize::from(det > 0.0)] += 1;
+            compared += 1;
+        }
+        assert!(
+            compared >= 30 && signs[0] > 0 && signs[1] > 0,
+            "{compared} {signs:?}"
+        );
     }
 }

@@ -306,14 +306,23 @@ fn check_options(opts: &LinearOptions) -> Result<(), LinearError> {
     Ok(())
 }
 
+/// The scan grid: its number of speeds (the study's, else `default`) and the i-th speed,
+/// uniform over the range.
+fn grid(opts: &LinearOptions, default: usize) -> (usize, impl Fn(usize) -> f64) {
+    let (lo, hi) = opts.speed_range;
+    let n = opts.grid_points.unwrap_or(default);
+    (n, move |i: usize| {
+        lo + (hi - lo) * (i as f64) / ((n - 1) as f64)
+    })
+}
+
 fn quartic_scan<const N: usize>(
     sys: &LinearSystem<N>,
     law: CreepLaw,
     opts: &LinearOptions,
 ) -> Result<CriticalSpeeds, LinearError> {
     let (lo, hi) = opts.speed_range;
-    let n = opts.grid_points.unwrap_or(QUARTIC_GRID_POINTS);
-    let speed = |i: usize| lo + (hi - lo) * (i as f64) / ((n - 1) as f64);
+    let (n, speed) = grid(opts, QUARTIC_GRID_POINTS);
     let eval = |v: f64| -> Result<[f64; 4], LinearError> {
         let a = sys.coefficients(v);
         if a.iter().all(|c| c.is_finite()) {
