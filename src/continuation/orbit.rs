@@ -213,16 +213,19 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
         // one extra integration instead of two is worth the O(h) error in a Newton column
         // (it changes the convergence rate slightly, not the converged orbit).
         let h = self.dp_rel * z.param.abs().max(1.0);
+        // one rayon thread: no join (from outside the pool each join is a hand-over to the
+        // worker and back, a tenth of the one-thread cone branch in futex calls)
+        let parallel = self.parallel && rayon::current_num_threads() > 1;
         let piece = |(x, h0): (&SVector<f64, N>, &(f64, f64))| {
             let main = || self.flow(x, span, z.param, true, h0.0);
             let shifted = || self.flow(x, span, z.param + h, false, h0.1);
-            if self.parallel {
+            if parallel {
                 rayon::join(main, shifted)
             } else {
                 (main(), shifted())
             }
         };
-        let flows: Vec<_> = if self.parallel && m > 1 {
+        let flows: Vec<_> = if parallel && m > 1 {
             use rayon::prelude::*;
             starts.par_iter().zip(h0.par_iter()).map(piece).collect()
         } else {

@@ -98,11 +98,13 @@ impl Wheelset {
         }
     }
 
-    /// Creep force on one wheel; `side` = +1 right, −1 left.
+    /// Creep force on one wheel; `side` = +1 right, −1 left; `(sin δ, cos δ)` of its contact
+    /// angle (computed once per wheel: the trigonometry was a sixth of the right-hand side).
     #[inline]
     fn wheel_force<T: Scalar>(
         &self,
         w: &WheelState<T>,
+        (sin_angle, cos_angle): (T, T),
         side: f64,
         x: &[T; 4],
         v: f64,
@@ -115,7 +117,7 @@ impl Wheelset {
                 - psidot * (side * p.half_contact_distance * inv_v),
             lat: ydot * inv_v - psi,
             spin: if self.spin {
-                psidot * inv_v - w.angle.sin() * (side / p.rolling_radius)
+                psidot * inv_v - sin_angle * (side / p.rolling_radius)
             } else {
                 T::cst(0.0)
             },
@@ -130,7 +132,7 @@ impl Wheelset {
             CreepLaw::Kalker => f,
             CreepLaw::Shen { friction } => {
                 // MODEL §4: N_i = (W/2)/cos δ_i
-                let normal = w.angle.cos().recip() * (p.axle_load / 2.0);
+                let normal = cos_angle.recip() * (p.axle_load / 2.0);
                 creep::shen(f, normal * friction)
             }
         }
@@ -146,10 +148,12 @@ impl Wheelset {
         let y = x[0];
         let right = self.table.right(y);
         let left = self.table.left(y);
-        let fr = self.wheel_force(&right, 1.0, x, v);
-        let fl = self.wheel_force(&left, -1.0, x, v);
-        // gravitational stiffness, MODEL §4
-        let f_n = -((right.angle.tan() - left.angle.tan()) * (p.axle_load / 2.0));
+        let (trig_r, trig_l) = (right.angle.sin_cos(), left.angle.sin_cos());
+        let fr = self.wheel_force(&right, trig_r, 1.0, x, v);
+        let fl = self.wheel_force(&left, trig_l, -1.0, x, v);
+        // gravitational stiffness, MODEL §4: tan δ = sin δ / cos δ
+        let (tan_r, tan_l) = (trig_r.0 / trig_r.1, trig_l.0 / trig_l.1);
+        let f_n = -((tan_r - tan_l) * (p.axle_load / 2.0));
         let f_f = flange_force(self.flange.as_ref(), y);
         (
             fr.fy + fl.fy + f_n + f_f,

@@ -49,6 +49,11 @@ pub trait Scalar:
         let v = self.re();
         self.lift(v.cos(), -v.sin())
     }
+    /// `(sin, cos)` with one evaluation of both (the model needs both of each contact angle).
+    fn sin_cos(self) -> (Self, Self) {
+        let (s, c) = self.re().sin_cos();
+        (self.lift(s, c), self.lift(c, -s))
+    }
     fn tan(self) -> Self {
         let t = self.re().tan();
         self.lift(t, 1.0 + t * t)
@@ -104,7 +109,9 @@ impl Scalar for f64 {
     }
     #[inline]
     fn hypot0(a: Self, b: Self) -> Self {
-        a.hypot(b)
+        // not `f64::hypot`: libm's overflow-safe version cost 6 % of a continuation, and the
+        // model's forces (below 1e9 N) are far from where a² + b² could overflow
+        (a * a + b * b).sqrt()
     }
 }
 
@@ -151,7 +158,7 @@ impl<const N: usize> Scalar for Dual<N> {
         self.map(value, slope)
     }
     fn hypot0(a: Self, b: Self) -> Self {
-        let h = a.re.hypot(b.re);
+        let h = f64::hypot0(a.re, b.re);
         if h == 0.0 {
             return Self::cst(0.0);
         }
