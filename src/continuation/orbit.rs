@@ -141,6 +141,7 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
         self.segments.max(1)
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn flow(
         &self,
         x0: &SVector<f64, N>,
@@ -148,9 +149,14 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
         p: f64,
         monodromy: bool,
         h_initial: f64,
+        rtol: f64,
     ) -> Result<Flowed<N>, OdeError> {
         let opts = OdeOptions {
             monodromy,
+            tol: crate::system::ode::Tolerances {
+                rtol,
+                ..self.ode.tol
+            },
             h_initial: (h_initial.is_finite() && h_initial > 0.0)
                 .then_some(h_initial)
                 .or(self.ode.h_initial),
@@ -192,6 +198,19 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
         z: &OrbitPoint<N>,
         seed: Option<&SegmentSeed<N>>,
     ) -> Result<Linearised<N>, OdeError> {
+        self.linearise_at(z, seed, self.ode.tol.rtol)
+    }
+
+    /// As [`linearise_from`](Self::linearise_from), with the flows integrated at the relative
+    /// tolerance `rtol` instead of the problem's (and the parameter difference scaled to
+    /// match, $\sqrt{\mathrm{rtol}}$): an inexact Newton iteration far from the orbit, where
+    /// the update need not be accurate to the final tolerance.
+    pub fn linearise_at(
+        &self,
+        z: &OrbitPoint<N>,
+        seed: Option<&SegmentSeed<N>>,
+        rtol: f64,
+    ) -> Result<Linearised<N>, OdeError> {
         let m = self.count();
         let span = self.horizon(z.period) / m as f64;
         let seed = seed.filter(|s| s.segments.len() == m);
@@ -200,7 +219,10 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
             None => {
                 let mut v = vec![z.x0];
                 for i in 1..m {
-                    v.push(self.flow(&v[i - 1], span, z.param, false, f64::NAN)?.end);
+                    v.push(
+                        self.flow(&v[i - 1], span, z.param, false, f64::NAN, rtol)?
+                            .end,
+                    );
                 }
                 v
             }
@@ -212,13 +234,13 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
         // ∂φ/∂p by a one-sided difference: the integrator has no parameter sensitivities, and
         // one extra integration instead of two is worth the O(h) error in a Newton column
         // (it changes the convergence rate slightly, not the converged orbit).
-        let h = self.dp_rel * z.param.abs().max(1.0);
+        let h = self.dp_rel * (rtol / self.ode.tol.rtol).sqrt() * z.param.abs().max(1.0);
         // one rayon thread: no join (from outside the pool each join is a hand-over to the
         // worker and back, a tenth of the one-thread cone branch in futex calls)
         let parallel = self.parallel && rayon::current_num_threads() > 1;
         let piece = |(x, h0): (&SVector<f64, N>, &(f64, f64))| {
-            let main = || self.flow(x, span, z.param, true, h0.0);
-            let shifted = || self.flow(x, span, z.param + h, false, h0.1);
+            let main = || self.flow(x, span, z.param, true, h0.0, rtol);
+            let shifted = || self.flow(x, span, z.param + h, false, h0.1, rtol);
             if parallel {
                 rayon::join(main, shifted)
             } else {

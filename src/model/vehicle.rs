@@ -372,6 +372,18 @@ impl Vehicle {
     /// The exact Jacobian $∂f/∂x$ into `jac`, **column-major** (as nalgebra stores it),
     /// states × states.
     pub fn jacobian_into(&self, x: &[f64], v: f64, jac: &mut [f64]) {
+        self.evaluate(x, v, None, jac);
+    }
+
+    /// $f(x; V)$ into `out` and $∂f/∂x$ into `jac` (column-major) from one evaluation: the
+    /// contact forces' dual numbers carry their values too, so the variational equations do
+    /// not evaluate the contact model a second time for $f$ (on the 4-state wheelset that
+    /// second evaluation was a third of a variational step).
+    pub fn rhs_jacobian_into(&self, x: &[f64], v: f64, out: &mut [f64], jac: &mut [f64]) {
+        self.evaluate(x, v, Some(out), jac);
+    }
+
+    fn evaluate(&self, x: &[f64], v: f64, mut out: Option<&mut [f64]>, jac: &mut [f64]) {
         let n = self.dofs();
         let s = 2 * n;
         let at = |r: usize, c: usize| c * s + r;
@@ -381,6 +393,18 @@ impl Vehicle {
             for j in 0..n {
                 jac[at(n + i, j)] = -self.stiffness[i * n + j];
                 jac[at(n + i, n + j)] = -self.damping[i * n + j];
+            }
+        }
+        if let Some(out) = out.as_deref_mut() {
+            // the suspension's forces, as in `rhs_into`
+            let (q, qd) = x.split_at(n);
+            let (vel, acc) = out.split_at_mut(n);
+            vel.copy_from_slice(qd);
+            for (i, a) in acc.iter_mut().enumerate() {
+                let row = i * n..(i + 1) * n;
+                let ks = self.stiffness[row.clone()].iter().zip(q);
+                let cs = self.damping[row].iter().zip(qd);
+                *a = -ks.fold(0.0, |s, (k, q)| s + k * q) - cs.fold(0.0, |s, (c, v)| s + c * v);
             }
         }
         for &w in &self.wheelset_dofs {
@@ -393,10 +417,19 @@ impl Vehicle {
                     jac[at(row, c)] += e;
                 }
             }
+            if let Some(out) = out.as_deref_mut() {
+                out[n + w] += qy.re;
+                out[n + w + 1] += qpsi.re;
+            }
         }
         for i in 0..n {
             for c in 0..s {
                 jac[at(n + i, c)] /= self.mass[i];
+            }
+        }
+        if let Some(out) = out {
+            for (a, m) in out[n..].iter_mut().zip(&self.mass) {
+                *a /= m;
             }
         }
     }
@@ -458,6 +491,15 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
         }
         jac
     }
+    /// One evaluation of the contact model gives both ([`Vehicle::rhs_jacobian_into`]).
+    fn rhs_jacobian(&self, x: &SVector<f64, N>, v: f64) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
+        let mut f = SVector::<f64, N>::from_element(f64::NAN);
+        let mut jac = SMatrix::<f64, N, N>::from_element(f64::NAN);
+        if N == self.states() {
+            self.rhs_jacobian_into(x.as_slice(), v, f.as_mut_slice(), jac.as_mut_slice());
+        }
+        (f, jac)
+    }
     /// $J\Phi$ with $J = \begin{pmatrix} 0 & I \\ J_q & J_{\dot q} \end{pmatrix}$: the upper
     /// half of the product is the lower half of $\Phi$ (exactly what the dense product gives);
     /// the lower half is the $n × 2n$ block times $\Phi$, over the block's nonzero entries only
@@ -469,8 +511,7 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
         v: f64,
         phi: &SMatrix<f64, N, N>,
     ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
-        let f = <Self as crate::system::ode::VectorField<N>>::rhs(self, x, v);
-        let j = <Self as crate::system::ode::VectorField<N>>::jacobian(self, x, v);
+        let (f, j) = <Self as crate::system::ode::VectorField<N>>::rhs_jacobian(self, x, v);
         if N != self.states() || !N.is_multiple_of(2) || N <= 8 {
             // (the single wheelset: the dense product, cheaper than gathering at this size)
             return (f, j * phi);
