@@ -11,9 +11,9 @@
 //!   (the default segments: one per thread).
 //! * `vehicle/diagram_car_60/{1,2}`: the first 60 cycles of the car's diagram (through the
 //!   torus point and the 222.9 m/s fold), the same way.
-//! * `vehicle/diagram_car_whole/2`: the car's whole diagram (about 200 cycles to 7 mm, its
-//!   folds, V_NL) on 2 threads, the vehicle issue's aim (under 10 s on this 2-core machine);
-//!   ten samples take about two minutes, so only the 2-thread pool is timed.
+//! * `vehicle/diagram_car_whole/{1,2}`: the car's whole diagram (about 140 cycles to 7 mm,
+//!   its folds, V_NL) on 1 and 2 threads: the vehicle issue's aim (under 10 s on this 2-core
+//!   machine) and issue 11's rayon speed-up; ten samples each take about four minutes.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use critspeed::bifurcation;
@@ -94,7 +94,10 @@ fn diagrams(
     car: &critspeed::model::Vehicle,
 ) {
     let mut group = c.benchmark_group("vehicle");
-    group.sample_size(10);
+    // flat sampling: ten runs of several seconds each (linear sampling needs 55)
+    group
+        .sample_size(10)
+        .sampling_mode(criterion::SamplingMode::Flat);
     group.measurement_time(std::time::Duration::from_secs(60));
     let bogie_opts = bp.bifurcation_options();
     let mut car_opts = cp.bifurcation_options();
@@ -122,14 +125,18 @@ fn diagrams(
         );
     }
     let whole = cp.bifurcation_options();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .build()
-        .expect("thread pool");
     group.measurement_time(std::time::Duration::from_secs(100));
-    group.bench_with_input(BenchmarkId::new("diagram_car_whole", 2), &2, |b, _| {
-        b.iter(|| pool.install(|| bifurcation::analyse("car", black_box(car), &whole)))
-    });
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool");
+        group.bench_with_input(
+            BenchmarkId::new("diagram_car_whole", threads),
+            &threads,
+            |b, _| b.iter(|| pool.install(|| bifurcation::analyse("car", black_box(car), &whole))),
+        );
+    }
     group.finish();
 }
 
