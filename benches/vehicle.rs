@@ -103,41 +103,32 @@ fn diagrams(
     let mut car_opts = cp.bifurcation_options();
     car_opts.max_points = 60;
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("thread pool");
-        group.bench_with_input(
-            BenchmarkId::new("diagram_bogie", threads),
-            &threads,
-            |b, _| {
-                b.iter(|| {
-                    pool.install(|| bifurcation::analyse("bogie", black_box(bogie), &bogie_opts))
-                })
-            },
-        );
-        group.bench_with_input(
-            BenchmarkId::new("diagram_car_60", threads),
-            &threads,
-            |b, _| {
-                b.iter(|| pool.install(|| bifurcation::analyse("car", black_box(car), &car_opts)))
-            },
-        );
+        time_diagram(&mut group, "diagram_bogie", threads, bogie, &bogie_opts);
+        time_diagram(&mut group, "diagram_car_60", threads, car, &car_opts);
     }
     let whole = cp.bifurcation_options();
     group.measurement_time(std::time::Duration::from_secs(100));
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("thread pool");
-        group.bench_with_input(
-            BenchmarkId::new("diagram_car_whole", threads),
-            &threads,
-            |b, _| b.iter(|| pool.install(|| bifurcation::analyse("car", black_box(car), &whole))),
-        );
+        time_diagram(&mut group, "diagram_car_whole", threads, car, &whole);
     }
     group.finish();
+}
+
+/// Times `bifurcation::analyse` of `model` with `opts` on a rayon pool of `threads` threads.
+fn time_diagram(
+    group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    id: &str,
+    threads: usize,
+    model: &critspeed::model::Vehicle,
+    opts: &critspeed::bifurcation::BifurcationOptions,
+) {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool");
+    group.bench_with_input(BenchmarkId::new(id, threads), &threads, |b, _| {
+        b.iter(|| pool.install(|| bifurcation::analyse(id, black_box(model), opts)))
+    });
 }
 
 criterion_group!(vehicle, benches);

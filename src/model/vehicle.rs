@@ -346,8 +346,9 @@ impl Vehicle {
         [x[w], x[w + 1], x[n + w], x[n + w + 1]]
     }
 
-    /// $f(x; V)$ into `out`; both slices hold [`Self::states`] values.
-    pub fn rhs_into(&self, x: &[f64], v: f64, out: &mut [f64]) {
+    /// The velocities into the upper half of `out` and the elements' forces $−Kq − C\dot q$
+    /// into the lower half (not yet divided by the masses).
+    fn elements_into(&self, x: &[f64], out: &mut [f64]) {
         let n = self.dofs();
         let (q, qd) = x.split_at(n);
         let (vel, acc) = out.split_at_mut(n);
@@ -358,6 +359,13 @@ impl Vehicle {
             let cs = self.damping[row].iter().zip(qd);
             *a = -ks.fold(0.0, |s, (k, q)| s + k * q) - cs.fold(0.0, |s, (c, v)| s + c * v);
         }
+    }
+
+    /// $f(x; V)$ into `out`; both slices hold [`Self::states`] values.
+    pub fn rhs_into(&self, x: &[f64], v: f64, out: &mut [f64]) {
+        let n = self.dofs();
+        self.elements_into(x, out);
+        let acc = &mut out[n..];
         for &w in &self.wheelset_dofs {
             let (qy, qpsi) = self.contact.contact_forces(&self.wheelset_state(x, w), v);
             // (a + b == b + a exactly: the same sum as MODEL §8 written out)
@@ -396,16 +404,7 @@ impl Vehicle {
             }
         }
         if let Some(out) = out.as_deref_mut() {
-            // the suspension's forces, as in `rhs_into`
-            let (q, qd) = x.split_at(n);
-            let (vel, acc) = out.split_at_mut(n);
-            vel.copy_from_slice(qd);
-            for (i, a) in acc.iter_mut().enumerate() {
-                let row = i * n..(i + 1) * n;
-                let ks = self.stiffness[row.clone()].iter().zip(q);
-                let cs = self.damping[row].iter().zip(qd);
-                *a = -ks.fold(0.0, |s, (k, q)| s + k * q) - cs.fold(0.0, |s, (c, v)| s + c * v);
-            }
+            self.elements_into(x, out);
         }
         for &w in &self.wheelset_dofs {
             let xw = self.wheelset_state(x, w);
