@@ -27,6 +27,14 @@ fn bogie() -> Vehicle {
     model("dtu-cooperrider-bogie.toml")
 }
 
+/// A ramp from `v` to `v` − 1 m/s whose settle phase lasts `settle` s, at `rtol`.
+fn settle_ramp(m: &Vehicle, v: f64, settle: f64, rtol: f64) -> (RampOptions, RampResult) {
+    let mut opts = RampOptions::new(v, v - 1.0);
+    (opts.settle, opts.rtol) = (settle, rtol);
+    let r = ramp(m, &opts).expect("ramp runs");
+    (opts, r)
+}
+
 fn ode(rtol: f64) -> OdeOptions {
     OdeOptions {
         tol: Tolerances::new(rtol, rtol * 1e-3).expect("valid tolerances"),
@@ -45,11 +53,8 @@ fn start12(m: &Vehicle, y0: f64) -> SVector<f64, 12> {
 /// 2e-6 s, amplitudes to 1e-5 relative (the refinement's O(dt⁴) error at 11 Hz and 1.8 ms).
 #[test]
 fn bogie_settle_phase_peaks_are_the_constant_speed_extrema() {
-    let m = bogie();
-    let (v, rtol) = (225.0, 1e-10);
-    let mut opts = RampOptions::new(v, v - 1.0);
-    (opts.settle, opts.rtol) = (3.0, rtol);
-    let r = ramp(&m, &opts).expect("ramp runs");
+    let (m, v, rtol) = (bogie(), 225.0, 1e-10);
+    let (opts, r) = settle_ramp(&m, v, 3.0, rtol);
     let o = ode(rtol);
     let ydot = m.dofs(); // the leading wheelset's ẏ
     let (mut x, mut t) = (start12(&m, opts.y0), 0.0);
@@ -113,11 +118,8 @@ fn guiding_force_from_eom(m: &Vehicle, x: &[f64], v: f64) -> Vec<f64> {
 /// The worst wheelset is the argmax of the r.m.s. computed here from the series.
 #[test]
 fn bogie_en14363_streams_are_each_wheelsets_guiding_force() {
-    let m = bogie();
-    let (v, rtol) = (225.0, 1e-10);
-    let mut opts = RampOptions::new(v, v - 1.0);
-    (opts.settle, opts.rtol) = (6.0, rtol);
-    let r = ramp(&m, &opts).expect("ramp runs");
+    let (m, v, rtol) = (bogie(), 225.0, 1e-10);
+    let (opts, r) = settle_ramp(&m, v, 6.0, rtol);
     assert_eq!(r.en14363_wheelsets.len(), 2);
     let dt = r.sample_interval_s;
     let h = simulate(

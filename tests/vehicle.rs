@@ -405,33 +405,47 @@ fn eigenvalue_scan_equals_the_quartic_scan_on_wheelset_studies() {
     assert!(compared >= 6, "{compared} crossings compared");
 }
 
+/// The default bifurcation diagram of the study `file` and its folds (printed with the solver
+/// statistics, for the test log); the branch must end at the amplitude bound.
+fn diagram_and_folds(
+    file: &str,
+) -> (
+    critspeed::bifurcation::BifurcationReport,
+    Vec<critspeed::bifurcation::SpecialRow>,
+) {
+    use critspeed::continuation::SpecialKind;
+    let plan = study::load(&study_path(file)).expect("study");
+    let model = plan.model().expect("model");
+    let r = critspeed::bifurcation::analyse(&plan.name, &model, &plan.bifurcation_options())
+        .expect("branch");
+    let folds: Vec<_> = r
+        .special
+        .iter()
+        .filter(|s| s.kind == SpecialKind::Fold)
+        .copied()
+        .collect();
+    eprintln!(
+        "{file}: {} cycles, {}; folds {:?}; {:?}",
+        r.cycles.len(),
+        r.stop_reason,
+        folds.iter().map(|f| f.speed_m_s).collect::<Vec<_>>(),
+        r.stats
+    );
+    assert!(
+        r.stop_reason.starts_with("amplitude bound"),
+        "{file}: {}",
+        r.stop_reason
+    );
+    (r, folds)
+}
+
 /// Regression (the per-column error control of Φ, kept for 4 states): on the 12-state bogie the
 /// continuation stopped at the 150.5 m/s fold with Newton failing. Entry by entry it locates the
 /// three folds of studies/dtu-cooperrider-bogie.toml and reaches the amplitude bound; every
 /// cycle's trivial multiplier is 1 to 1e-5 and the located V_NL is a fold.
 #[test]
 fn bogie_branch_passes_its_folds() {
-    use critspeed::bifurcation::analyse;
-    use critspeed::continuation::SpecialKind;
-    let plan = study::load(&study_path("dtu-cooperrider-bogie.toml")).expect("study");
-    let model = plan.model().expect("model");
-    let r = analyse(&plan.name, &model, &plan.bifurcation_options()).expect("branch");
-    let folds: Vec<_> = r
-        .special
-        .iter()
-        .filter(|s| s.kind == SpecialKind::Fold)
-        .collect();
-    eprintln!(
-        "{} cycles, {}; folds {:?}",
-        r.cycles.len(),
-        r.stop_reason,
-        folds.iter().map(|f| f.speed_m_s).collect::<Vec<_>>()
-    );
-    assert!(
-        r.stop_reason.starts_with("amplitude bound"),
-        "{}",
-        r.stop_reason
-    );
+    let (r, folds) = diagram_and_folds("dtu-cooperrider-bogie.toml");
     assert!(
         folds.len() >= 3 && folds.iter().all(|f| f.located),
         "{folds:?}"
@@ -536,28 +550,7 @@ fn scan_eigenvalues_equal_faers_on_the_car() {
 /// and the trivial multiplier of every cycle is 1 (no number of this program is copied).
 #[test]
 fn car_branch_comes_down_to_its_low_fold() {
-    use critspeed::bifurcation::analyse;
-    use critspeed::continuation::SpecialKind;
-    let plan = study::load(&study_path("dtu-cooperrider-car.toml")).expect("study");
-    let model = plan.model().expect("model");
-    let r = analyse(&plan.name, &model, &plan.bifurcation_options()).expect("branch");
-    let folds: Vec<_> = r
-        .special
-        .iter()
-        .filter(|s| s.kind == SpecialKind::Fold)
-        .collect();
-    eprintln!(
-        "{} cycles, {}; folds {:?}; {:?}",
-        r.cycles.len(),
-        r.stop_reason,
-        folds.iter().map(|f| f.speed_m_s).collect::<Vec<_>>(),
-        r.stats
-    );
-    assert!(
-        r.stop_reason.starts_with("amplitude bound"),
-        "{}",
-        r.stop_reason
-    );
+    let (r, folds) = diagram_and_folds("dtu-cooperrider-car.toml");
     let hopf = r.hopf.expect("Hopf point").speed_m_s;
     // the low fold: well below the Hopf point, located, and where V_NL is
     let low = folds

@@ -249,29 +249,7 @@ impl crate::system::ode::VectorField<4> for Wheelset {
 #[macro_export]
 macro_rules! with_states {
     ($states:expr, $n:ident => $body:expr, _ => $other:expr) => {
-        match $states {
-            4 => {
-                const $n: usize = 4;
-                $body
-            }
-            12 => {
-                const $n: usize = 12;
-                $body
-            }
-            14 => {
-                const $n: usize = 14;
-                $body
-            }
-            28 => {
-                const $n: usize = 28;
-                $body
-            }
-            34 => {
-                const $n: usize = 34;
-                $body
-            }
-            _ => $other,
-        }
+        $crate::with_state_sizes!($states, 0, $n => $body, _ => $other)
     };
 }
 
@@ -282,25 +260,35 @@ macro_rules! with_states {
 #[macro_export]
 macro_rules! with_states_plus_one {
     ($states:expr, $m:ident => $body:expr, _ => $other:expr) => {
+        $crate::with_state_sizes!($states, 1, $m => $body, _ => $other)
+    };
+}
+
+/// The one list of the vehicles' state sizes behind [`with_states!`] and
+/// [`with_states_plus_one!`]: `$n` is the size matched plus `$extra`.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! with_state_sizes {
+    ($states:expr, $extra:expr, $n:ident => $body:expr, _ => $other:expr) => {
         match $states {
             4 => {
-                const $m: usize = 5;
+                const $n: usize = 4 + $extra;
                 $body
             }
             12 => {
-                const $m: usize = 13;
+                const $n: usize = 12 + $extra;
                 $body
             }
             14 => {
-                const $m: usize = 15;
+                const $n: usize = 14 + $extra;
                 $body
             }
             28 => {
-                const $m: usize = 29;
+                const $n: usize = 28 + $extra;
                 $body
             }
             34 => {
-                const $m: usize = 35;
+                const $n: usize = 34 + $extra;
                 $body
             }
             _ => $other,
