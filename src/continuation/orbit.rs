@@ -370,6 +370,9 @@ pub enum NewtonStop {
     Converged,
     /// the iteration limit was reached
     MaxIterations,
+    /// from the third iteration on, an update shrank by less than a quarter while still well
+    /// above the tolerance: the iteration is not converging
+    NotContracting,
     /// the bordered Jacobian was singular
     Singular,
     /// the residual or update became NaN/inf, or the integrator failed
