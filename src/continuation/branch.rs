@@ -9,7 +9,7 @@
 //! guard between consecutive tangents. Special points are found by sign changes along the
 //! branch and located by the Illinois method on the arclength from the last point.
 
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering::Relaxed};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering, Ordering::Relaxed};
 
 use nalgebra::{DMatrix, DVector, SVector};
 
@@ -373,13 +373,15 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
     /// workers, whose wake-up took 0.3–0.7 ms on the 2-core machine measured (longer than
     /// many shooting integrations), so that the second thread often joined too late; from a
     /// worker, two 1 ms tasks ran 1.63–1.80× faster than in series against 1.14–1.39× when
-    /// injected from outside (`examples/join_latency.rs`).
+    /// injected from outside (`examples/join_latency.rs`). The pool's other workers are kept
+    /// awake for the run (`keep_awake`); a run that starts on a worker already (a sweep's
+    /// points) leaves the pool as it is.
     pub fn run(&self, start: OrbitPoint<N>, direction: DVector<f64>) -> Branch<N> {
         if self.shooting.parallel
             && rayon::current_num_threads() > 1
             && rayon::current_thread_index().is_none()
         {
-            return rayon::scope(|_| self.run_here(start, direction));
+            return keep_awake(|| self.run_here(start, direction));
         }
         self.run_here(start, direction)
     }
@@ -616,6 +618,68 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
     }
 }
 
+/// Runs `work` on a worker of the current rayon pool while the pool's other workers stay
+/// awake, executing the jobs `work` spawns as soon as they appear.
+///
+/// A rayon worker with nothing to steal spins for a few tens of microseconds and then
+/// sleeps; the next `join` must wake it, which took 0.3–0.7 ms on the 2-core virtual machine
+/// measured (`examples/join_latency.rs`), as long as a whole shooting integration of the
+/// wheelset. Between two linearisations of a continuation there are only microseconds of
+/// serial work, so helpers loop on [`rayon::yield_now`] (which runs any pending job) until
+/// `work` returns: they use their cores for the whole run, as OpenMP's spin-waiting threads
+/// do in AUTO-07p. S1002's diagram on two threads, medians of 10 and 16 alternating runs:
+/// 788.6 against 840.2 ms and 731.7 against 751.4 ms with sleeping workers (1 thread: 1312.0
+/// and 1204.2 ms).
+fn keep_awake<R: Send>(work: impl FnOnce() -> R + Send) -> R {
+    /// Tells the helpers to stop when `work` ends, also by a panic (the scope waits for them).
+    struct Done<'a>(&'a AtomicBool);
+    impl Drop for Done<'_> {
+        fn drop(&mut self) {
+            self.0.store(true, Ordering::Release);
+        }
+    }
+    let done = AtomicBool::new(false);
+    let done = &done;
+    rayon::scope(|s| {
+        let me = rayon::current_thread_index();
+        for _ in 1..rayon::current_num_threads() {
+            s.spawn(move |s| helper(s, done, me));
+        }
+        let _done = Done(done);
+        work()
+    })
+}
+
+/// One turn of a [`keep_awake`] helper: at most [`HELPER_TURN`] of running pending jobs, then
+/// a successor job for the next turn.
+///
+/// A turn is bounded because a worker waiting inside a job (its own `join`) may steal a
+/// helper: a helper that spun there until `work` ended would block the job beneath it, and
+/// `work` may be waiting for that job. Ending the turn hands the worker back to the job;
+/// the successor goes on the worker's deque, where the next idle worker takes it. On
+/// `work`'s own thread a helper only hands itself on.
+fn helper<'s>(s: &rayon::Scope<'s>, done: &'s AtomicBool, me: Option<usize>) {
+    if done.load(Ordering::Acquire) {
+        return;
+    }
+    if rayon::current_thread_index() != me {
+        let start = std::time::Instant::now();
+        while !done.load(Ordering::Acquire) && start.elapsed() < HELPER_TURN {
+            if rayon::yield_now() != Some(rayon::Yield::Executed) {
+                // the OS's yield rather than a pause loop: a core another process needs is
+                // handed over, and a hypervisor sees no spinning lock
+                std::thread::yield_now();
+            }
+        }
+    }
+    if !done.load(Ordering::Acquire) {
+        s.spawn(move |s| helper(s, done, me));
+    }
+}
+
+/// The longest turn of a [`keep_awake`] helper.
+const HELPER_TURN: std::time::Duration = std::time::Duration::from_millis(1);
+
 /// What kind of multiplier left (or entered) the unit circle between two orbits.
 fn classify(a: &Floquet, b: &Floquet, symmetric: bool) -> Option<SpecialKind> {
     // the orbit whose largest nontrivial multiplier is outside the circle
@@ -644,4 +708,30 @@ fn classify(a: &Floquet, b: &Floquet, symmetric: bool) -> Option<SpecialKind> {
         }
     }
     Some(SpecialKind::Fold)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::keep_awake;
+
+    #[test]
+    fn keep_awake_returns_the_work_and_its_joins_results() {
+        let sum = keep_awake(|| {
+            let (a, b) = rayon::join(
+                || (1..=1000u64).sum::<u64>(),
+                || (1..=10u64).product::<u64>(),
+            );
+            a + b
+        });
+        assert_eq!(sum, 500_500 + 3_628_800);
+    }
+
+    #[test]
+    fn keep_awake_ends_its_helpers_when_the_work_panics() {
+        // the helpers stop through the drop guard; without it the scope would never end
+        let r = std::panic::catch_unwind(|| keep_awake(|| -> u32 { panic!("work failed") }));
+        assert!(r.is_err());
+        // and the pool still serves work afterwards
+        assert_eq!(keep_awake(|| rayon::join(|| 2, || 3)), (2, 3));
+    }
 }
