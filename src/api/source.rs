@@ -16,7 +16,7 @@ use crate::sweep::SweepStudy;
 pub struct Source {
     /// TOML text
     pub text: String,
-    /// named in error messages (the file's path, or e.g. "<TOML text>")
+    /// named in error messages (the file's path, or e.g. "`<TOML text>`")
     pub origin: String,
     /// folder of relative paths
     pub folder: Option<PathBuf>,

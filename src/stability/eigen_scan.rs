@@ -255,7 +255,7 @@ impl<const N: usize> Scan<'_, N> {
 }
 
 /// The grid of the eigenvalue scan when the study does not set `grid_points`: 64 speeds,
-/// refined by [`refine_turns`] where the least damped pair turns near the axis. On every
+/// refined by `refine_turns` where the least damped pair turns near the axis. On every
 /// shipped study and on a 10×10 bogie stability map it finds the crossings the 512-point grid
 /// finds (`tests/vehicle.rs`), for an eighth of the eigenvalue decompositions.
 pub const EIGEN_GRID_POINTS: usize = 64;

@@ -21,7 +21,7 @@
 //! turns above the axis between grid speeds) and looks at every grid step where the count of
 //! unstable complex eigenvalues changes, or where an unstable pair's nearest neighbour at the
 //! other end is stable (one mode recovering while another sets in). There the crossings are
-//! located by Newton's method on the Hopf system $J(V)v = iωv$ ([`hopf`]) from the pairs
+//! located by Newton's method on the Hopf system $J(V)v = iωv$ (`hopf`) from the pairs
 //! nearest the axis at the step's midpoint, each re-checked by fresh eigenvalues 1e-6 V either
 //! side (which give its direction). When the directions found do not add up to the change of
 //! the count, the step is bisected on the count until each part holds one crossing, located by
@@ -267,7 +267,7 @@ pub enum LinearError {
 }
 
 /// Every crossing of the imaginary axis by a complex pair of $J(V)$ within the range: the
-/// quartic's Hurwitz scan for 4 states, the eigenvalue scan ([`eigen_scan`]) for more.
+/// quartic's Hurwitz scan for 4 states, the eigenvalue scan (`eigen_scan`) for more.
 pub fn critical_speeds<const N: usize>(
     sys: &LinearSystem<N>,
     law: CreepLaw,

@@ -1,6 +1,6 @@
 //! Every key a study file may hold, read from the schema itself.
 //!
-//! [`study_keys`] drives the serde-derived [`StudyFile`](super::schema::StudyFile) through a
+//! [`study_keys`] drives the serde-derived [`StudyFile`] through a
 //! deserializer that records the field names serde asks for (`deserialize_struct` receives the
 //! struct's field list) and answers every field with a placeholder value, so that nested
 //! sections are visited too. A field added to any schema struct therefore appears here without
