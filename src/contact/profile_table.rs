@@ -41,27 +41,11 @@ pub(super) fn build(
     let n = spec.nodes.max(5) | 1;
     let half = (n - 1) / 2;
     let h = spec.half_width / half as f64;
-    // March outwards from the centre, each solve seeded by the last; the two directions are
-    // independent, so they run on two rayon threads (the same nodes as in series, bitwise).
-    let march = |dir: f64| -> Result<Vec<Raw>, TableError> {
-        let mut guess = None;
-        let mut out = Vec::with_capacity(half + 1);
-        for k in 0..=half {
-            let y = dir * k as f64 * h;
-            let (p, u) = pair.solve(spec.nominal, y, guess)?;
-            guess = Some(u);
-            let b = pair.curvature(spec.nominal, p.roll, p.wheel_offset, Dual::var(y, 0));
-            out.push(([p.radius, p.angle, p.roll, b], p.wheel_offset.re));
-        }
-        Ok(out)
-    };
-    let (right, left) = rayon::join(|| march(1.0), || march(-1.0));
-    // nodes −half … 0 from the left march (reversed), then 1 … half from the right one
-    let raw: Vec<Raw> = left?
-        .into_iter()
-        .rev()
-        .chain(right?.into_iter().skip(1))
-        .collect();
+    let raw: Vec<Raw> = super::table::march(half, h, |y, guess| {
+        let (p, u) = pair.solve(spec.nominal, y, guess)?;
+        let b = pair.curvature(spec.nominal, p.roll, p.wheel_offset, Dual::var(y, 0));
+        Ok::<_, TableError>((([p.radius, p.angle, p.roll, b], p.wheel_offset.re), u))
+    })?;
     let y0 = -(half as f64) * h;
     let jumps = find_jumps(&raw, y0, h);
     let cols = if smoothing >= 1.5 * h {

@@ -162,30 +162,17 @@ impl ContactTable {
         let n = spec.nodes.max(5) | 1;
         let half = (n - 1) / 2;
         let h = spec.half_width / half as f64;
-        let mut value = vec![[0.0; COLUMNS]; n];
-        let mut slope = vec![[0.0; COLUMNS]; n];
-        let mut has_patch = false;
-        // March outwards from the centre in both directions, each solve seeded by the last.
-        for dir in [1.0, -1.0] {
-            let mut guess = None;
-            for k in 0..=half {
-                let y = dir * k as f64 * h;
-                let (point, u) = geometry.solve(spec.nominal, y, guess)?;
-                guess = Some(u);
-                let cols = node_columns(point, tabulated, lateral, spec, y)?;
-                has_patch = cols.1;
-                let idx = (half as isize + dir as isize * k as isize) as usize;
-                for (c, d) in cols.0.iter().enumerate() {
-                    value[idx][c] = d.re;
-                    slope[idx][c] = d.eps[0];
-                }
-            }
-        }
+        let nodes = march(half, h, |y, guess| {
+            let (point, u) = geometry.solve(spec.nominal, y, guess)?;
+            Ok::<_, TableError>((node_columns(point, tabulated, lateral, spec, y)?, u))
+        })?;
+        // the patch is there for every node or for none
+        let has_patch = nodes.first().is_some_and(|c| c.1);
         Ok(Self {
             y0: -(half as f64) * h,
             h,
-            value,
-            slope,
+            value: nodes.iter().map(|c| c.0.map(|d| d.re)).collect(),
+            slope: nodes.iter().map(|c| c.0.map(|d| d.eps[0])).collect(),
             has_patch,
             offsets: vec![f64::NAN; n],
             jumps: Vec::new(),
@@ -372,6 +359,35 @@ impl ContactTable {
 /// The table columns at one node, as one-direction duals (value and d/dy).
 /// `lateral` is B (1/m): 1/R_rail for a cone (straight transversally), or the profiles'
 /// κ_wheel + κ_rail; `None`: no Hertz patch.
+/// Solves the nodes $y_k = k h$, $k = −$`half` … `half`, marching outwards from the centre in
+/// both directions with each solve seeded by the previous one's `G`, and returns them in the
+/// order of y. The two directions are independent, so they run on two rayon threads (the same
+/// nodes as in series, bitwise); an error of the positive side is reported first.
+pub(super) fn march<T: Send, G, E: Send>(
+    half: usize,
+    h: f64,
+    node: impl Fn(f64, Option<G>) -> Result<(T, G), E> + Sync,
+) -> Result<Vec<T>, E> {
+    let side = |dir: f64| -> Result<Vec<T>, E> {
+        let mut guess = None;
+        let mut out = Vec::with_capacity(half + 1);
+        for k in 0..=half {
+            let (t, g) = node(dir * k as f64 * h, guess)?;
+            guess = Some(g);
+            out.push(t);
+        }
+        Ok(out)
+    };
+    let (right, left) = rayon::join(|| side(1.0), || side(-1.0));
+    let right = right?;
+    // −half … 0 from the negative side (its y = −0 node, as the serial loop kept), then 1 … half
+    Ok(left?
+        .into_iter()
+        .rev()
+        .chain(right.into_iter().skip(1))
+        .collect())
+}
+
 fn node_columns(
     p: ContactPoint<Dual<1>>,
     tabulated: Option<&TabulatedGeometry>,
