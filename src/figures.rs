@@ -205,41 +205,83 @@ pub fn geometry(g: &GeometryReport) -> Result<String, PlotError> {
     render_grid(&panels, 2, 1200, 900)
 }
 
-/// `bifurcation.svg`: lateral amplitude against speed, stable cycles solid, unstable dashed,
-/// the centred solution along the axis, Hopf, folds and the Kalker speed marked.
+/// The runs of equal stability along the cycles of one branch, as (stable, points) with each
+/// run overlapping the next by one point so that they join.
+fn stability_runs(cycles: &[&crate::bifurcation::CycleRow]) -> Vec<(bool, Vec<(f64, f64)>)> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    for k in 1..=cycles.len() {
+        if k == cycles.len() || cycles[k].stable != cycles[start].stable {
+            let end = (k + 1).min(cycles.len());
+            let pts = cycles[start..end]
+                .iter()
+                .map(|c| (c.speed_m_s, c.amplitude_y_m * 1e3))
+                .collect();
+            out.push((cycles[start].stable, pts));
+            start = k;
+        }
+    }
+    out
+}
+
+/// `bifurcation.svg`: lateral amplitude against speed, every branch in the colour of its kind
+/// (symmetric, asymmetric, period-2, …), stable cycles solid, unstable dashed, the centred
+/// solution along the axis, the special points by kind, Hopf, Kalker and V_NL marked.
 pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> Result<String, PlotError> {
+    use crate::bifurcation::BranchKind;
     let mut fig = figure(
         &format!("{}: hunting limit cycles ({} creep)", r.study, r.law.name()),
         "speed V (m/s)",
         "lateral amplitude max|y| (mm)",
     );
-    // Contiguous runs of equal stability; all runs of one kind form one series, separated by
-    // a NaN point (a gap), so each kind keeps one colour and one legend entry. Runs overlap
-    // by one point so that they join.
-    let cycles = &r.cycles;
-    let mut runs: [Vec<(f64, f64)>; 2] = [Vec::new(), Vec::new()];
-    let mut start = 0;
-    for k in 1..=cycles.len() {
-        if k == cycles.len() || cycles[k].stable != cycles[start].stable {
-            let run = &mut runs[usize::from(!cycles[start].stable)];
-            if !run.is_empty() {
-                run.push((f64::NAN, f64::NAN));
-            }
-            let end = (k + 1).min(cycles.len());
-            run.extend(
-                cycles[start..end]
-                    .iter()
-                    .map(|c| (c.speed_m_s, c.amplitude_y_m * 1e3)),
-            );
-            start = k;
+    let colour = |k: BranchKind| match k {
+        BranchKind::Symmetric => 0,
+        BranchKind::Asymmetric => 1,
+        BranchKind::Period(2) => 2,
+        BranchKind::Period(_) => 3,
+    };
+    // one series per kind and stability; branches separated by a NaN point (a gap)
+    let mut kinds: Vec<BranchKind> = Vec::new();
+    for b in &r.branches {
+        if !kinds.contains(&b.kind) {
+            kinds.push(b.kind);
         }
     }
-    let [stable, unstable] = runs;
-    if !stable.is_empty() {
-        fig.series.push(line("stable cycles", stable, false));
+    if r.branches.is_empty() && !r.cycles.is_empty() {
+        kinds.push(BranchKind::Symmetric);
     }
-    if !unstable.is_empty() {
-        fig.series.push(line("unstable cycles", unstable, true));
+    for kind in kinds {
+        let mut lines: [Vec<(f64, f64)>; 2] = [Vec::new(), Vec::new()];
+        let ids: Vec<usize> = r
+            .branches
+            .iter()
+            .filter(|b| b.kind == kind)
+            .map(|b| b.id)
+            .collect();
+        for id in ids.iter().copied().chain(r.branches.is_empty().then_some(0)) {
+            let cycles: Vec<_> = r.cycles.iter().filter(|c| c.branch == id).collect();
+            for (stable, pts) in stability_runs(&cycles) {
+                let line = &mut lines[usize::from(!stable)];
+                if !line.is_empty() {
+                    line.push((f64::NAN, f64::NAN));
+                }
+                line.extend(pts);
+            }
+        }
+        let [stable, unstable] = lines;
+        let name = kind.name();
+        for (pts, dashed, what) in [(stable, false, "stable"), (unstable, true, "unstable")] {
+            if !pts.is_empty() {
+                fig.series.push(Series {
+                    name: format!("{name} cycles, {what}"),
+                    points: pts,
+                    style: Style::LineIn {
+                        dashed,
+                        colour: colour(kind),
+                    },
+                });
+            }
+        }
     }
     let (lo, hi) = r.speed_range;
     match r.hopf {
@@ -273,28 +315,44 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> Result<String, 
             label: format!("Kalker V_L {v:.2} m/s"),
         });
     }
-    let folds: Vec<(f64, f64)> = r
-        .special
-        .iter()
-        .map(|s| (s.speed_m_s, s.amplitude_y_m * 1e3))
-        .collect();
-    if !folds.is_empty() {
-        let names: Vec<String> = r
-            .special
-            .iter()
-            .map(|s| format!("{} {:.2} m/s", s.kind.name(), s.speed_m_s))
-            .collect();
+    // the special points, one series per kind, each listed with its speeds when there are few
+    let mut kinds: Vec<crate::continuation::SpecialKind> = Vec::new();
+    for s in &r.special {
+        if !kinds.contains(&s.kind) {
+            kinds.push(s.kind);
+        }
+    }
+    for kind in kinds {
+        let of: Vec<_> = r.special.iter().filter(|s| s.kind == kind).collect();
+        let speeds: Vec<String> = of.iter().map(|s| format!("{:.2}", s.speed_m_s)).collect();
+        let name = if of.len() <= 4 {
+            format!("{} {} m/s", kind.name().replace('_', " "), speeds.join(", "))
+        } else {
+            format!("{} ({} points)", kind.name().replace('_', " "), of.len())
+        };
         fig.series.push(Series {
-            name: names.join(", "),
-            points: folds,
-            style: Style::Points,
+            name,
+            points: of
+                .iter()
+                .map(|s| (s.speed_m_s, s.amplitude_y_m * 1e3))
+                .collect(),
+            style: if kind == crate::continuation::SpecialKind::Fold {
+                Style::Points
+            } else {
+                Style::Crosses
+            },
         });
     }
     if let Some((v, located)) = r.nonlinear_critical_speed {
+        let how = r
+            .nonlinear_sources
+            .iter()
+            .find(|c| (c.speed_m_s - v).abs() <= 1e-9 * v.abs().max(1.0))
+            .map_or(String::new(), |c| format!(": {}", c.what));
         fig.vlines.push(Marker {
             at: v,
             label: format!(
-                "V_NL {v:.2} m/s{}",
+                "V_NL {v:.2} m/s{}{how}",
                 if located { "" } else { " (bracketed)" }
             ),
         });

@@ -327,25 +327,52 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> String {
         r.hopf_type
             .map_or(String::new(), |t| format!(", {}", t.name()))
     );
+    let how = r.nonlinear_sources.first().map_or(String::new(), |c| {
+        format!(
+            ", {} ({}{}, {})",
+            c.what,
+            c.method.name(),
+            c.branch.map_or(String::new(), |b| format!(", branch {b}")),
+            if c.located { "located" } else { "lowest computed, not located" }
+        )
+    });
     let _ = writeln!(
         s,
-        "  nonlinear critical speed V_NL          {}{}",
+        "  nonlinear critical speed V_NL          {}{how}",
         speed(r.nonlinear_critical_speed.map(|v| v.0)),
-        match r.nonlinear_critical_speed {
-            Some((_, true)) => ", located",
-            Some((_, false)) => ", lowest stable computed cycle (not located)",
-            None => "",
-        }
     );
-    for p in &r.special {
+    for b in &r.branches {
+        let origin = b
+            .parent
+            .and_then(|(p, k)| r.special.get(k).map(|sp| (p, sp)))
+            .map_or("from the Hopf point".to_string(), |(p, sp)| {
+                format!(
+                    "from the {} point at {:.4} m/s of branch {p}",
+                    sp.kind.name().replace('_', " "),
+                    sp.speed_m_s
+                )
+            });
         let _ = writeln!(
             s,
-            "  {:<38} {:.4} m/s at amplitude {:.3} mm ({})",
-            p.kind.name(),
-            p.speed_m_s,
-            p.amplitude_y_m * 1e3,
-            if p.located { "located" } else { "bracketed" }
+            "  branch {} ({}): {} cycles {origin}; {}",
+            b.id,
+            b.kind.name(),
+            b.cycles,
+            b.stop_reason
         );
+        for p in r.special.iter().filter(|p| p.branch == b.id) {
+            let _ = writeln!(
+                s,
+                "    {:<36} {:.4} m/s at amplitude {:.3} mm ({})",
+                p.kind.name(),
+                p.speed_m_s,
+                p.amplitude_y_m * 1e3,
+                if p.located { "located" } else { "bracketed" }
+            );
+        }
+    }
+    for n in &r.notes {
+        let _ = writeln!(s, "  note: {n}");
     }
     let worst = r
         .cycles
@@ -354,9 +381,9 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> String {
         .fold(0.0, f64::max);
     let _ = writeln!(
         s,
-        "  {} cycles; largest |trivial multiplier - 1| = {worst:.1e}; stopped: {}",
+        "  {} cycles on {} branches; largest |trivial multiplier - 1| = {worst:.1e}",
         r.cycles.len(),
-        r.stop_reason
+        r.branches.len().max(1),
     );
     s
 }

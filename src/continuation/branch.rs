@@ -84,6 +84,11 @@ pub enum BranchStop {
     AmplitudeBound { amplitude: f64 },
     /// `max_points` were computed
     MaxPoints,
+    /// the branch came back to the branch it was switched from (its [`Rejoin`] measure changed
+    /// sign: an asymmetric branch meeting the symmetric one at a second symmetry-breaking
+    /// point, a doubled branch meeting its parent at a second period-doubling point); the
+    /// meeting point is the branch's last special point
+    Rejoined { param: f64 },
     /// the step fell below `ds_min` without a converged corrector
     StepTooSmall { param: f64, newton: NewtonStop },
     /// the caller's cancellation hook asked to stop (checked before each step)
@@ -102,6 +107,10 @@ pub struct BranchPoint<const N: usize> {
     /// the largest |x_k| over the orbit, per component (from the last Newton iteration's
     /// integration, one update of at most `newton_tol` away)
     pub peaks: SVector<f64, N>,
+    /// the largest x_k over the orbit (same integration)
+    pub high: SVector<f64, N>,
+    /// the smallest x_k over the orbit (same integration)
+    pub low: SVector<f64, N>,
     /// unit tangent (scaled)
     pub tangent: DVector<f64>,
     /// Newton iterations used
@@ -210,6 +219,8 @@ struct Corrected<const N: usize> {
     orbit: OrbitPoint<N>,
     floquet: Floquet,
     peaks: SVector<f64, N>,
+    high: SVector<f64, N>,
+    low: SVector<f64, N>,
     tangent: DVector<f64>,
     iterations: usize,
     seed: SegmentSeed<N>,
@@ -231,6 +242,35 @@ fn unpack<const N: usize>(v: &DVector<f64>) -> OrbitPoint<N> {
     }
 }
 
+/// How a branch switched from another one recognises that it has come back to it, from the
+/// interior start $x_m$ of the middle shooting segment (the problem needs an even number of
+/// segments $2m$; with an odd number the test is off):
+///
+/// * [`Rejoin::Mirror`]: an asymmetric branch of an odd field; $d = x_m + x_0$ ($x(T/2) + x(0)$)
+///   vanishes on symmetric cycles, and the mirror image $−x(t + T/2)$ of a cycle has $−d$;
+/// * [`Rejoin::Shift`]: a doubled branch; $d = x_m − x_0$ ($x(T) − x(0)$ of a cycle of period
+///   2T) vanishes on the single cycle traversed twice, and the shift by T has $−d$.
+///
+/// At the meeting point the continuation would pass from the cycle to its image; so the branch
+/// ends where $⟨d, d_1⟩$ ($d_1$ of its first cycle, in scaled units) changes sign.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rejoin {
+    /// asymmetric cycles of an odd field
+    Mirror,
+    /// cycles of doubled period
+    Shift,
+}
+
+impl Rejoin {
+    /// The kind of the point where the branch meets its parent.
+    pub fn kind(self) -> SpecialKind {
+        match self {
+            Rejoin::Mirror => SpecialKind::SymmetryBreaking,
+            Rejoin::Shift => SpecialKind::PeriodDoubling,
+        }
+    }
+}
+
 /// The continuation driver: a shooting problem plus settings and an amplitude measure.
 pub struct Continuation<'a, const N: usize, F: VectorField<N>> {
     /// the shooting problem
@@ -245,6 +285,12 @@ pub struct Continuation<'a, const N: usize, F: VectorField<N>> {
     /// asked before each step whether to stop (`true`: the branch ends with
     /// [`BranchStop::Cancelled`], keeping the points so far); `None`: never
     pub cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
+    /// the measure that `params.max_amplitude` bounds, from the largest |x_k| per component
+    /// (e.g. the largest lateral excursion of any wheelset, which must stay where the contact
+    /// geometry is known); `None`: the amplitude
+    pub extent: Option<&'a (dyn Fn(&SVector<f64, N>) -> f64 + Sync)>,
+    /// end the branch where it meets the branch it was switched from; `None`: never
+    pub rejoin: Option<Rejoin>,
 }
 
 impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
@@ -339,6 +385,8 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                     orbit: unpack(&z),
                     floquet: Floquet::from_monodromy(&lin.monodromy, self.shooting.symmetric),
                     peaks: lin.peaks,
+                    high: lin.high,
+                    low: lin.low,
                     tangent: t,
                     iterations: it,
                     seed: lin.seed,
@@ -392,6 +440,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         let mut special = Vec::new();
         let mut last_failure = NewtonStop::Converged;
         let mut seed: Option<SegmentSeed<N>> = None;
+        let mut first_measure: Option<DVector<f64>> = None;
         let counters = Counters::default();
         let mut stats = BranchStats::default();
         let stop = loop {
@@ -423,11 +472,15 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 }
             };
             let amplitude = (self.amplitude)(&c.orbit, &c.peaks);
+            let extent = self.extent.map_or(amplitude, |e| e(&c.peaks));
+            let here = self.rejoin_measure(&c);
             let point = BranchPoint {
                 orbit: c.orbit,
                 floquet: c.floquet,
                 amplitude,
                 peaks: c.peaks,
+                high: c.high,
+                low: c.low,
                 tangent: c.tangent.clone(),
                 newton_iterations: c.iterations,
                 seed: c.seed.clone(),
@@ -435,6 +488,42 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             if let Some(prev) = points.last() {
                 let at = (points.len() - 1, ds);
                 stats.locate_corrections += self.detect(prev, &point, at, &mut special, &counters);
+                // back on the parent branch: locate the meeting point and end there
+                let met = match (&first_measure, &here) {
+                    (Some(d1), Some(d)) if d.dot(d1) < 0.0 => self.rejoin.map(|r| (r, d1)),
+                    _ => None,
+                };
+                if let Some((r, d1)) = met {
+                    // Where a branch of a pitchfork (symmetry breaking, or period doubling in
+                    // the doubled problem) meets its parent it turns in p (p − p* ∝ d²), so the
+                    // step found a fold there: that located turning point is the meeting point.
+                    // Without one, the sign change of ⟨d, d₁⟩ is located, whose correctors near
+                    // the parent branch may land on it (d = 0) a little away in p.
+                    let fold_here = special
+                        .last()
+                        .is_some_and(|s| s.after == at.0 && s.kind == SpecialKind::Fold);
+                    let sp = if fold_here {
+                        special.pop().map(|s| SpecialPoint { kind: r.kind(), ..s })
+                    } else {
+                        None
+                    };
+                    let sp = match sp {
+                        Some(sp) => sp,
+                        None => {
+                            let g = |q: &Corrected<N>| {
+                                self.rejoin_measure(q).map_or(f64::NAN, |d| d.dot(d1))
+                            };
+                            let (sp, n) = self.locate(prev, at, r.kind(), &g, &counters);
+                            stats.locate_corrections += n;
+                            sp
+                        }
+                    };
+                    let param = sp.orbit.param;
+                    special.push(sp);
+                    break BranchStop::Rejoined { param };
+                }
+            } else {
+                first_measure = here;
             }
             let param = point.orbit.param;
             if let Some(report) = self.progress {
@@ -456,8 +545,8 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             if param < p.param_range.0 || param > p.param_range.1 {
                 break BranchStop::ParamBound { param };
             }
-            if amplitude > p.max_amplitude {
-                break BranchStop::AmplitudeBound { amplitude };
+            if extent > p.max_amplitude {
+                break BranchStop::AmplitudeBound { amplitude: extent };
             }
         };
         stats.newton_iterations = counters.newton.load(Relaxed);
@@ -471,8 +560,25 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         }
     }
 
+    /// The [`Rejoin`] measure $d$ of a corrected orbit, in scaled units; `None` when the test
+    /// is off (no rejoin asked, or an odd number of segments).
+    fn rejoin_measure(&self, c: &Corrected<N>) -> Option<DVector<f64>> {
+        let r = self.rejoin?;
+        let m = c.seed.len();
+        if m < 2 || m % 2 == 1 {
+            return None;
+        }
+        let mid = c.seed.start(m / 2)?;
+        let x0 = c.orbit.x0;
+        let sign = if r == Rejoin::Mirror { 1.0 } else { -1.0 };
+        let s = self.scale();
+        Some(DVector::from_fn(N, |i, _| (mid[i] + sign * x0[i]) / s[i]))
+    }
+
     /// Sign changes between consecutive points, each located along the arclength from point
-    /// `a` (`at`: its index and the step to `b`); returns the correctors run.
+    /// `a` (`at`: its index and the step to `b`): the fold from the tangent, the multipliers'
+    /// crossings of the unit circle from their census ([`super::special`]); returns the
+    /// correctors run.
     fn detect(
         &self,
         a: &BranchPoint<N>,
@@ -481,7 +587,6 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         out: &mut Vec<SpecialPoint<N>>,
         counters: &Counters,
     ) -> usize {
-        let index = at.0;
         let mut runs = 0;
         let fold = |q: &Corrected<N>| q.tangent[N + 1];
         if a.tangent[N + 1].signum() != b.tangent[N + 1].signum() {
@@ -489,19 +594,11 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             out.push(sp);
             runs += n;
         }
-        let crossing = |f: &Floquet| f.max_nontrivial - 1.0;
-        if crossing(&a.floquet).signum() != crossing(&b.floquet).signum() {
-            let kind = classify(&a.floquet, &b.floquet, self.shooting.symmetric);
-            // A fold also moves a multiplier through 1: do not report it twice.
-            let near_fold = out
-                .last()
-                .is_some_and(|s| s.after == index && s.kind == SpecialKind::Fold);
-            if let Some(kind) = kind.filter(|_| !near_fold) {
-                let g = |q: &Corrected<N>| q.floquet.max_nontrivial - 1.0;
-                let (sp, n) = self.locate(a, at, kind, &g, counters);
-                out.push(sp);
-                runs += n;
-            }
+        for kind in super::special::crossings(&a.floquet, &b.floquet, self.shooting.symmetric) {
+            let g = |q: &Corrected<N>| super::special::test_value(kind, &q.floquet);
+            let (sp, n) = self.locate(a, at, kind, &g, counters);
+            out.push(sp);
+            runs += n;
         }
         runs
     }
@@ -528,6 +625,8 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             orbit: a.orbit,
             floquet: a.floquet.clone(),
             peaks: a.peaks,
+            high: a.high,
+            low: a.low,
             tangent: a.tangent.clone(),
             iterations: 0,
             seed: a.seed.clone(),
@@ -676,36 +775,6 @@ fn helper<'s>(s: &rayon::Scope<'s>, done: &'s AtomicBool, me: Option<usize>) {
 
 /// The longest turn of a [`keep_awake`] helper.
 const HELPER_TURN: std::time::Duration = std::time::Duration::from_millis(1);
-
-/// What kind of multiplier left (or entered) the unit circle between two orbits.
-fn classify(a: &Floquet, b: &Floquet, symmetric: bool) -> Option<SpecialKind> {
-    // the orbit whose largest nontrivial multiplier is outside the circle
-    let outside = if a.max_nontrivial > b.max_nontrivial {
-        a
-    } else {
-        b
-    };
-    let (k, mu) = outside
-        .multipliers
-        .iter()
-        .enumerate()
-        .filter(|(_, m)| m.norm() > 1.0 && (*m - 1.0).norm() > outside.trivial_error.max(1e-6))
-        .max_by(|x, y| x.1.norm().total_cmp(&y.1.norm()))?;
-    if mu.im.abs() > 1e-6 * mu.norm() {
-        return Some(SpecialKind::Torus);
-    }
-    if mu.re < 0.0 {
-        return Some(SpecialKind::PeriodDoubling);
-    }
-    if symmetric {
-        if let Some(nu) = outside.half.as_ref().and_then(|h| h.get(k)) {
-            if nu.re < 0.0 {
-                return Some(SpecialKind::SymmetryBreaking);
-            }
-        }
-    }
-    Some(SpecialKind::Fold)
-}
 
 #[cfg(test)]
 mod tests {

@@ -13,7 +13,7 @@
 
 use nalgebra::{Complex, DMatrix, DVector, SMatrix, SVector};
 
-use crate::system::ode::{integrate, integrate_with_peaks, OdeError, OdeOptions, VectorField};
+use crate::system::ode::{integrate, integrate_with_extremes, OdeError, OdeOptions, VectorField};
 
 /// The shooting problem: a vector field, whether to use the symmetric half-period form, the
 /// number of segments, and the integrator options.
@@ -46,13 +46,14 @@ pub struct Shooting<'a, const N: usize, F: VectorField<N>> {
 }
 
 /// One flow evaluation: end state, monodromy (when asked for), integrator steps, the largest
-/// |x_k| over the interval, and the first accepted step size.
+/// and smallest x_k over the interval, and the first accepted step size.
 struct Flowed<const N: usize> {
     end: SVector<f64, N>,
     phi: Option<SMatrix<f64, N, N>>,
     steps: usize,
     rejected: usize,
-    peaks: SVector<f64, N>,
+    high: SVector<f64, N>,
+    low: SVector<f64, N>,
     h_first: f64,
 }
 
@@ -90,6 +91,21 @@ pub struct SegmentSeed<const N: usize> {
 }
 
 impl<const N: usize> SegmentSeed<N> {
+    /// Number of segments.
+    pub fn len(&self) -> usize {
+        self.segments.len()
+    }
+
+    /// Whether there are no segments (never, for a linearisation's seed).
+    pub fn is_empty(&self) -> bool {
+        self.segments.is_empty()
+    }
+
+    /// The start of segment `i` (segment 0 starts at the orbit's $x_0$).
+    pub fn start(&self, i: usize) -> Option<SVector<f64, N>> {
+        self.segments.get(i).map(|s| s.start)
+    }
+
     fn starts(&self, z: &OrbitPoint<N>) -> Vec<SVector<f64, N>> {
         let (dt, dp) = (z.period - self.z.period, z.param - self.z.param);
         let mut out = vec![z.x0];
@@ -120,10 +136,15 @@ pub struct Linearised<const N: usize> {
     pub steps: usize,
     /// integrator steps rejected by the error test (the same flows)
     pub rejected: usize,
-    /// the largest $|x_k|$ over the shooting interval, per component (located on the
-    /// integrator's continuous extension); for a symmetric orbit the half period holds the
-    /// maximum over the whole period
+    /// the largest $|x_k|$ over the whole orbit, per component (located on the integrator's
+    /// continuous extension); for a symmetric orbit the half period holds the maximum over the
+    /// whole period
     pub peaks: SVector<f64, N>,
+    /// the largest $x_k$ over the whole orbit (for a symmetric orbit, $x(t + T/2) = −x(t)$
+    /// makes it the largest $|x_k|$ of the half period)
+    pub high: SVector<f64, N>,
+    /// the smallest $x_k$ over the whole orbit (−`high` for a symmetric orbit)
+    pub low: SVector<f64, N>,
     /// the segments, for the interior starts of the next linearisation
     pub seed: SegmentSeed<N>,
 }
@@ -162,17 +183,19 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
                 .or(self.ode.h_initial),
             ..self.ode
         };
-        let (s, peaks) = if monodromy {
-            integrate_with_peaks(self.field, p, x0, span, &opts)?
+        let (s, high, low) = if monodromy {
+            integrate_with_extremes(self.field, p, x0, span, &opts)?
         } else {
-            (integrate(self.field, p, x0, span, &opts)?, SVector::zeros())
+            let s = integrate(self.field, p, x0, span, &opts)?;
+            (s, SVector::zeros(), SVector::zeros())
         };
         Ok(Flowed {
             end: s.x,
             phi: s.monodromy,
             steps: s.stats.steps,
             rejected: s.stats.rejected,
-            peaks,
+            high,
+            low,
             h_first: s.h_first,
         })
     }
@@ -255,13 +278,16 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
         };
         let dtau = self.horizon(1.0) / m as f64;
         let mut segments = Vec::with_capacity(m);
-        let (mut steps, mut rejected, mut peaks) = (0, 0, SVector::<f64, N>::zeros());
+        let (mut steps, mut rejected) = (0, 0);
+        let mut high = SVector::<f64, N>::repeat(f64::NEG_INFINITY);
+        let mut low = SVector::<f64, N>::repeat(f64::INFINITY);
         for (start, (a, b)) in starts.iter().zip(flows) {
             let (a, b) = (a?, b?);
             let phi = a.phi.ok_or(OdeError::NonFinite { t: 0.0 })?;
             steps += a.steps;
             rejected += a.rejected;
-            peaks = peaks.sup(&a.peaks);
+            high = high.sup(&a.high);
+            low = low.inf(&a.low);
             segments.push(Segment {
                 start: *start,
                 end: a.end,
@@ -284,6 +310,12 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
         let monodromy = last.phi * a;
         let end = last.end + last.phi * c;
         let residual = self.residual_of(&z.x0, &end);
+        if self.symmetric {
+            // the second half period is the first one negated
+            high = high.sup(&(-low));
+            low = -high;
+        }
+        let peaks = high.abs().sup(&low.abs());
         let sign = if self.symmetric { 1.0 } else { -1.0 };
         let d_x0 = monodromy + SMatrix::<f64, N, N>::identity() * sign;
         let d_t = last.phi * g + last.d_t;
@@ -300,6 +332,8 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
             steps,
             rejected,
             peaks,
+            high,
+            low,
             seed: SegmentSeed { z: *z, segments },
         })
     }
@@ -316,6 +350,8 @@ pub struct Floquet {
     pub trivial_error: f64,
     /// largest modulus of the others (the orbit is stable when < 1)
     pub max_nontrivial: f64,
+    /// index of the trivial multiplier in `multipliers` (and `half`)
+    pub trivial: usize,
 }
 
 impl Floquet {
@@ -354,7 +390,13 @@ impl Floquet {
             half,
             trivial_error,
             max_nontrivial,
+            trivial,
         }
+    }
+
+    /// The multipliers of the shooting map: ν (half period) for a symmetric orbit, μ else.
+    pub fn shooting_multipliers(&self) -> &[Complex<f64>] {
+        self.half.as_deref().unwrap_or(&self.multipliers)
     }
 
     /// All nontrivial multipliers inside the unit circle.

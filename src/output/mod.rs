@@ -186,7 +186,20 @@ pub fn write(dir: &Path, file: &str, bytes: &[u8]) -> std::io::Result<PathBuf> {
 
 /// What the bifurcation outputs call the speeds they report.
 pub const NONLINEAR_KIND: &str = "nonlinear critical speed: the lowest speed at which a stable \
-hunting limit cycle exists (continuation of periodic orbits of the study's creep law)";
+hunting motion exists (every branch of cycles the continuation followed, with branch switching; \
+and every attractor of the search where one ran)";
+
+/// A V_NL candidate as JSON (the entries of `nonlinear_critical_speed_sources`).
+pub fn vnl_candidate_json(c: &crate::bifurcation::VnlCandidate) -> Value {
+    json!({
+        "speed_m_s": c.speed_m_s,
+        "located": c.located,
+        "method": c.method.name(),
+        "what": c.what,
+        "branch": c.branch,
+        "bracket_m_s": c.bracket_m_s.map(|(a, b)| [a, b]),
+    })
+}
 
 /// The bifurcation results as one JSON object (`--json` and `bifurcation.json`).
 pub fn bifurcation_json(r: &crate::bifurcation::BifurcationReport) -> Value {
@@ -195,10 +208,41 @@ pub fn bifurcation_json(r: &crate::bifurcation::BifurcationReport) -> Value {
         .iter()
         .map(|s| {
             json!({
+                "branch": s.branch,
                 "kind": s.kind.name(),
                 "speed_m_s": s.speed_m_s,
                 "amplitude_y_m": s.amplitude_y_m,
                 "located": s.located,
+            })
+        })
+        .collect();
+    let branches: Vec<Value> = r
+        .branches
+        .iter()
+        .map(|b| {
+            let cycles = r.cycles.iter().filter(|c| c.branch == b.id);
+            let (lo, hi) = cycles.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), c| {
+                (lo.min(c.speed_m_s), hi.max(c.speed_m_s))
+            });
+            let joined = b.parent.and_then(|(_, k)| r.special.get(k)).map(|s| {
+                json!({
+                    "kind": s.kind.name(),
+                    "speed_m_s": s.speed_m_s,
+                    "amplitude_y_m": s.amplitude_y_m,
+                    "located": s.located,
+                })
+            });
+            json!({
+                "id": b.id,
+                "kind": b.kind.name(),
+                "parent": b.parent.map(|p| p.0),
+                "joined_at": joined,
+                "switch_multiplier": b.switch_multiplier,
+                "mirror": matches!(b.kind, crate::bifurcation::BranchKind::Asymmetric)
+                    .then_some("one of a mirror pair: the other is -x(t + T/2), the same cycles seen in the mirror"),
+                "cycles": b.cycles,
+                "speed_range_m_s": (b.cycles > 0).then_some([lo, hi]),
+                "stop_reason": b.stop_reason,
             })
         })
         .collect();
@@ -218,20 +262,24 @@ pub fn bifurcation_json(r: &crate::bifurcation::BifurcationReport) -> Value {
         "hopf_type": r.hopf_type.map(|t| t.name()),
         "nonlinear_critical_speed_m_s": r.nonlinear_critical_speed.map(|v| v.0),
         "nonlinear_critical_speed_located": r.nonlinear_critical_speed.map(|v| v.1),
+        "nonlinear_critical_speed_sources": r.nonlinear_sources.iter().map(vnl_candidate_json).collect::<Vec<_>>(),
+        "branches": branches,
         "special_points": special,
         "stop_reason": r.stop_reason,
+        "notes": r.notes,
         "cycles": r.cycles.len(),
         "max_trivial_multiplier_error": worst_trivial,
     })
 }
 
-/// `branch.csv`: one row per computed cycle. The wheelset's columns are fixed; a vehicle's
-/// start state and multipliers have one column per state, followed by every body's
-/// amplitudes (`amp_y_<body>_m`, `amp_psi_<body>_rad`).
+/// `branch.csv`: one row per computed cycle, branch by branch. The wheelset's columns are
+/// fixed; a vehicle's start state and multipliers have one column per state, followed by every
+/// body's amplitudes (`amp_y_<body>_m`, `amp_psi_<body>_rad`).
 pub fn branch_csv(r: &crate::bifurcation::BifurcationReport) -> String {
     let mut s = String::from(
-        "speed_m_s,amplitude_y_m,amplitude_psi_rad,period_s,frequency_hz,stable,\
-max_multiplier_abs,trivial_multiplier_error,newton_iterations",
+        "branch,branch_kind,speed_m_s,amplitude_y_m,amplitude_y_right_m,amplitude_y_left_m,\
+amplitude_psi_rad,period_s,frequency_hz,stable,max_multiplier_abs,trivial_multiplier_error,\
+newton_iterations",
     );
     let states = r.state_names.len();
     if states == 4 {
@@ -252,11 +300,18 @@ max_multiplier_abs,trivial_multiplier_error,newton_iterations",
     }
     s.push('\n');
     for c in &r.cycles {
+        let kind = r
+            .branches
+            .get(c.branch)
+            .map_or_else(|| "symmetric".to_string(), |b| b.kind.name());
         let _ = write!(
             s,
-            "{},{},{},{},{},{},{},{},{}",
+            "{},{kind},{},{},{},{},{},{},{},{},{},{},{}",
+            c.branch,
             c.speed_m_s,
             c.amplitude_y_m,
+            c.amplitude_sides_y_m.0,
+            c.amplitude_sides_y_m.1,
             c.amplitude_psi_rad,
             c.period_s,
             1.0 / c.period_s,

@@ -74,6 +74,14 @@ pub enum Style {
         /// Draw the line dashed.
         dashed: bool,
     },
+    /// Connected line in the palette's colour number `colour` (it does not take the next
+    /// colour): series that belong together (one kind of branch, stable and unstable) share it.
+    LineIn {
+        /// Draw the line dashed.
+        dashed: bool,
+        /// Index into the series palette.
+        colour: usize,
+    },
     /// Unconnected filled circles.
     Points,
     /// Filled triangles pointing up: each value is a lower bound (the true one lies above).

@@ -196,6 +196,11 @@ pub(crate) fn prepare(fig: &Figure) -> Result<Prepared, PlotError> {
                 item.runs = visible_runs(s.points.iter().map(scaled), &rect);
                 next_colour += 1;
             }
+            Style::LineIn { dashed, colour } => {
+                item.colour = series_colour(*colour);
+                item.mark = Mark::Line { dashed: *dashed };
+                item.runs = visible_runs(s.points.iter().map(scaled), &rect);
+            }
             Style::Points | Style::Above | Style::Crosses => {
                 item.mark = match s.style {
                     Style::Above => Mark::Above,

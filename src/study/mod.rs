@@ -94,6 +94,19 @@ pub struct ContactPlan {
     pub table_points: usize,
 }
 
+impl ContactPlan {
+    /// The half-width (m) of the lateral range where the contact geometry is genuine: the
+    /// tabulated range of a table, a profile solve or a cone on a circular rail head, beyond
+    /// which the table is extended linearly; `None` for the cone on knife-edge rails, whose
+    /// linear extension is exact.
+    pub fn valid_half_width(&self) -> Option<f64> {
+        match self.geometry {
+            Geometry::Cone { .. } => None,
+            _ => Some(self.lateral_range),
+        }
+    }
+}
+
 /// A validated study: everything in SI, defaults filled.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
@@ -304,7 +317,11 @@ pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyErr
         .bifurcation
         .as_ref()
         .map(|b| bifurcation_plan(b, linear.speed_range))
-        .transpose()?;
+        .transpose()?
+        .map(|b| BifurcationOptions {
+            geometry_limit: contact.valid_half_width(),
+            ..b
+        });
     Ok(Plan {
         name: f.name,
         description: f.description.unwrap_or_default(),
@@ -375,6 +392,19 @@ fn bifurcation_plan(
             ));
         }
         o.segments = n;
+    }
+    if let Some(s) = b.switch {
+        o.switch = s;
+    }
+    if let Some(n) = b.max_branches {
+        if !(1..=1000).contains(&n) {
+            return Err(rule(
+                "bifurcation.max_branches",
+                n,
+                "must lie in [1, 1000] (1: the branch from the Hopf point alone)",
+            ));
+        }
+        o.max_branches = n;
     }
     Ok(o)
 }
@@ -621,11 +651,14 @@ impl Plan {
     }
 
     /// The bifurcation options: the study's `[bifurcation]` section, or the defaults over the
-    /// linear speed range.
+    /// linear speed range (with the contact geometry's range as the amplitude bound).
     pub fn bifurcation_options(&self) -> BifurcationOptions {
         self.bifurcation
             .clone()
-            .unwrap_or_else(|| BifurcationOptions::new(self.linear.speed_range))
+            .unwrap_or_else(|| BifurcationOptions {
+                geometry_limit: self.contact.valid_half_width(),
+                ..BifurcationOptions::new(self.linear.speed_range)
+            })
     }
 
     /// The geometry table specification of this plan.

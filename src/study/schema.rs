@@ -252,6 +252,12 @@ pub struct BifurcationSection {
     /// shooting segments of the half period (0: one per thread when parallel)
     #[serde(default)]
     pub segments: Option<usize>,
+    /// switch onto asymmetric and doubled branches (default true)
+    #[serde(default)]
+    pub switch: Option<bool>,
+    /// branches continued at most (default 8)
+    #[serde(default)]
+    pub max_branches: Option<usize>,
 }
 
 /// `[sweep]`: a grid over one or two numeric study keys.

@@ -370,16 +370,19 @@ impl<const N: usize> Dense<N> {
         r0 + (r1 + (r2 + (r3 + r4 * th1) * th) * th1) * th
     }
 
-    /// The largest $|x_k(t)|$ of each component over the step, on the continuous extension:
-    /// the end values, and the interior zeros of $dx_k/d\theta$. In the power basis
+    /// The largest and the smallest value of each component over the step, on the continuous
+    /// extension, `(max x_k, min x_k)`: the end values, and the interior zeros of
+    /// $dx_k/d\theta$ (an asymmetric cycle's amplitude on each side comes from these). In the power basis
     /// $x = r_0 + \theta(r_1 + r_2) + \theta^2(r_3 + r_4 - r_2) - \theta^3(r_3 + 2r_4) + \theta^4 r_4$
     /// the derivative is a cubic; its sign is sampled at $\theta = 0, 1/4, \dots, 1$ and each
     /// sign change is refined by bisection to round-off (an extremum of $x_k$ is flat, so the
     /// value there is as accurate as the continuous extension itself). Two extrema of one
     /// component within a quarter step (a wiggle far below the step's resolution) are not seen.
-    pub fn abs_max(&self) -> SVector<f64, N> {
+    pub fn extremes(&self) -> (SVector<f64, N>, SVector<f64, N>) {
         let [r0, r1, r2, r3, r4] = &self.r;
-        SVector::from_fn(|i, _| {
+        let mut high = SVector::<f64, N>::zeros();
+        let mut low = SVector::<f64, N>::zeros();
+        for i in 0..N {
             let c = [
                 r0[i],
                 r1[i] + r2[i],
@@ -389,7 +392,8 @@ impl<const N: usize> Dense<N> {
             ];
             let x = |t: f64| c[0] + t * (c[1] + t * (c[2] + t * (c[3] + t * c[4])));
             let dx = |t: f64| c[1] + t * (2.0 * c[2] + t * (3.0 * c[3] + t * 4.0 * c[4]));
-            let mut best = x(0.0).abs().max(x(1.0).abs());
+            let (a, b) = (x(0.0), x(1.0));
+            let (mut hi_v, mut lo_v) = (a.max(b), a.min(b));
             let (mut t0, mut d0) = (0.0, dx(0.0));
             for q in 1..=4 {
                 let t1 = 0.25 * q as f64;
@@ -407,12 +411,16 @@ impl<const N: usize> Dense<N> {
                             hi = mid;
                         }
                     }
-                    best = best.max(x(0.5 * (lo + hi)).abs());
+                    let v = x(0.5 * (lo + hi));
+                    hi_v = hi_v.max(v);
+                    lo_v = lo_v.min(v);
                 }
                 (t0, d0) = (t1, d1);
             }
-            best
-        })
+            high[i] = hi_v;
+            low[i] = lo_v;
+        }
+        (high, low)
     }
 }
 

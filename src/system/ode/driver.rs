@@ -198,12 +198,28 @@ pub fn integrate_with_peaks<const N: usize, F: VectorField<N>>(
     t_end: f64,
     opts: &OdeOptions,
 ) -> Result<(Solution<N>, SVector<f64, N>), OdeError> {
-    let mut peaks = x0.abs();
+    let (sol, high, low) = integrate_with_extremes(f, p, x0, t_end, opts)?;
+    Ok((sol, high.abs().sup(&low.abs())))
+}
+
+/// As [`integrate`], and also the largest and smallest value of each component over
+/// $[0, t_{end}]$, `(solution, max x_k, min x_k)`, located on each step's continuous extension
+/// (see `Dense::extremes`).
+pub fn integrate_with_extremes<const N: usize, F: VectorField<N>>(
+    f: &F,
+    p: f64,
+    x0: &SVector<f64, N>,
+    t_end: f64,
+    opts: &OdeOptions,
+) -> Result<(Solution<N>, SVector<f64, N>, SVector<f64, N>), OdeError> {
+    let (mut high, mut low) = (*x0, *x0);
     let run = run(f, p, x0, t_end, opts, |_, start, trial| {
-        peaks = peaks.sup(&Dense::new(start, trial).abs_max());
+        let (h, l) = Dense::new(start, trial).extremes();
+        high = high.sup(&h);
+        low = low.inf(&l);
         ControlFlow::Continue(())
     })?;
-    Ok((checked(run)?, peaks))
+    Ok((checked(run)?, high, low))
 }
 
 /// As [`integrate`], calling `observer(t, &x)` at each sample time (sorted ascending, within

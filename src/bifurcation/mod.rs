@@ -1,18 +1,27 @@
-//! The nonlinear analysis of a study: the branch of hunting limit cycles from the Hopf point
-//! of the study's creep law, its stability, folds and the nonlinear critical speed (MODEL §9).
+//! The nonlinear analysis of a study: the branches of hunting limit cycles from the Hopf point
+//! of the study's creep law, their stability, special points and the nonlinear critical speed
+//! (MODEL §9, §12).
 //!
 //! This is the driver that joins the wheelset to the generic continuation: it finds the Hopf
 //! point and its eigenvector, chooses scales (1 mm of lateral amplitude ≈ 1 m/s of speed),
-//! measures amplitudes on each cycle, and turns the branch into plain result rows.
+//! continues the symmetric branch from the Hopf point, switches onto the asymmetric branch at
+//! each symmetry-breaking point and onto the doubled branch at each period doubling, and so on
+//! recursively within the study's limits ([`driver`]); measures amplitudes on each cycle, turns
+//! the branches into plain result rows, and takes the nonlinear critical speed over all of them
+//! ([`vnl`]).
 
-use nalgebra::{DVector, SVector};
+mod driver;
+pub mod vnl;
+
+pub use vnl::{VnlCandidate, VnlMethod};
+
+use nalgebra::SVector;
 
 use crate::model::Vehicle;
 
 use crate::contact::creep::CreepLaw;
 use crate::continuation::{
-    Branch, BranchStats, BranchStop, Continuation, ContinuationParams, OrbitPoint, Shooting,
-    SpecialKind,
+    BranchStats, Continuation, ContinuationParams, OrbitPoint, Shooting, SpecialKind,
 };
 use crate::stability::{critical_speeds, Crossing, LinearOptions, LinearSystem};
 use crate::system::ode::{OdeOptions, Tolerances};
@@ -22,15 +31,29 @@ use crate::system::ode::{OdeOptions, Tolerances};
 pub struct BifurcationOptions {
     /// speeds the branch may visit (m/s); default: the linear range
     pub speed_range: (f64, f64),
-    /// largest lateral amplitude followed (m); default 20 mm
+    /// largest lateral excursion of any wheelset followed (m); default 20 mm. A branch is
+    /// also cut where it leaves `geometry_limit`.
     pub max_amplitude: f64,
+    /// the half-width (m) of the lateral range where the contact geometry is known (a table's
+    /// or a profile solve's range; beyond it the geometry is extended linearly); `None` where
+    /// the extension is exact (the cone) or the study asks for extrapolation. Branches are cut
+    /// where a wheelset's excursion leaves it, so that no cycle (and no V_NL) rests on
+    /// extrapolated geometry.
+    pub geometry_limit: Option<f64>,
+    /// switch onto the asymmetric branch at every symmetry-breaking point and onto the doubled
+    /// branch at every period doubling, recursively (study key `[bifurcation] switch`; default
+    /// true)
+    pub switch: bool,
+    /// branches continued at most, the symmetric one from the Hopf point included (study key
+    /// `[bifurcation] max_branches`; default 8)
+    pub max_branches: usize,
     /// integrator relative tolerance; default 1e-10 (atol = rtol × 1 mm)
     pub rtol: f64,
     /// largest continuation step (scaled: 1 ≈ 1 mm or 1 m/s); default 2 (AUTO-07p's DSMAX in
     /// the peer comparison): the step grows to it only on easy stretches (Newton at or below
     /// its target count, tangents within 0.3 rad), special points are located regardless
     pub ds_max: f64,
-    /// most cycles computed; default 400
+    /// most cycles computed on each branch; default 400
     pub max_points: usize,
     /// run each Newton step's independent integrations (per shooting segment: the flow with
     /// its monodromy and the speed perturbation) on rayon threads (default true; results are
@@ -49,6 +72,9 @@ impl BifurcationOptions {
         Self {
             speed_range,
             max_amplitude: 0.020,
+            geometry_limit: None,
+            switch: true,
+            max_branches: 8,
             rtol: 1e-10,
             ds_max: 2.0,
             max_points: 400,
@@ -59,6 +85,13 @@ impl BifurcationOptions {
 }
 
 impl BifurcationOptions {
+    /// The excursion at which a branch is cut (m): `max_amplitude`, or the geometry's range
+    /// when that is smaller.
+    pub fn amplitude_bound(&self) -> f64 {
+        self.geometry_limit
+            .map_or(self.max_amplitude, |g| g.min(self.max_amplitude))
+    }
+
     /// The shooting segments used: `segments`, or for 0 one per rayon thread when `parallel`
     /// (at most 8), else 1.
     pub fn segment_count(&self) -> usize {
@@ -89,13 +122,62 @@ impl HopfType {
     }
 }
 
-/// One cycle of the branch, for output.
+/// What kind of cycles a branch holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BranchKind {
+    /// symmetric cycles, x(t + T/2) = −x(t): the branch from the Hopf point
+    Symmetric,
+    /// asymmetric cycles (one of each mirror pair x(t), −x(t + T/2)), from a symmetry-breaking
+    /// point
+    Asymmetric,
+    /// cycles of `k` times the period of the cycles they branched from at the first of a
+    /// cascade of period doublings (2, 4, …)
+    Period(usize),
+}
+
+impl BranchKind {
+    /// As written in outputs: `symmetric`, `asymmetric`, `period-2`, `period-4`, …
+    pub fn name(self) -> String {
+        match self {
+            BranchKind::Symmetric => "symmetric".into(),
+            BranchKind::Asymmetric => "asymmetric".into(),
+            BranchKind::Period(k) => format!("period-{k}"),
+        }
+    }
+}
+
+/// One branch of cycles, for output.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BranchRow {
+    /// its id: the index in [`BifurcationReport::branches`] (0: the branch from the Hopf point)
+    pub id: usize,
+    /// what it holds
+    pub kind: BranchKind,
+    /// the branch it was switched from, and the index in [`BifurcationReport::special`] of the
+    /// point where it was (`None` for the branch from the Hopf point)
+    pub parent: Option<(usize, usize)>,
+    /// the critical multiplier at the switching point (ν = −1 of the half-period map for
+    /// symmetry breaking, μ = −1 for period doubling; its distance from −1 shows how well the
+    /// point was located)
+    pub switch_multiplier: Option<f64>,
+    /// why it ended, in words
+    pub stop_reason: String,
+    /// the cycles computed on it
+    pub cycles: usize,
+}
+
+/// One cycle of a branch, for output.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CycleRow {
+    /// the branch it lies on ([`BranchRow::id`])
+    pub branch: usize,
     /// speed (m/s)
     pub speed_m_s: f64,
-    /// lateral amplitude max |y| (m)
+    /// lateral amplitude of the leading wheelset, max |y| (m)
     pub amplitude_y_m: f64,
+    /// the leading wheelset's largest excursion to the right, max y (m), and to the left,
+    /// max −y (m): equal on symmetric cycles, the two sides of an asymmetric one
+    pub amplitude_sides_y_m: (f64, f64),
     /// yaw amplitude max |ψ| (rad)
     pub amplitude_psi_rad: f64,
     /// period (s)
@@ -118,9 +200,11 @@ pub struct CycleRow {
     pub body_amplitudes: Vec<(f64, f64)>,
 }
 
-/// A special point of the branch, for output.
+/// A special point of a branch, for output.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpecialRow {
+    /// the branch it lies on ([`BranchRow::id`])
+    pub branch: usize,
     /// kind
     pub kind: SpecialKind,
     /// speed (m/s)
@@ -129,6 +213,8 @@ pub struct SpecialRow {
     pub amplitude_y_m: f64,
     /// located to tolerance (true) or only bracketed
     pub located: bool,
+    /// index in [`BifurcationReport::cycles`] of the branch's cycle just before it
+    pub after: usize,
 }
 
 /// Everything the nonlinear analysis produces.
@@ -144,15 +230,23 @@ pub struct BifurcationReport {
     pub hopf: Option<Crossing>,
     /// its type, from the branch's initial direction
     pub hopf_type: Option<HopfType>,
-    /// lowest speed with a stable cycle (m/s), and whether it was located (a located fold or
-    /// the supercritical Hopf point) or is only the lowest stable computed cycle
+    /// lowest speed with a stable cycle on any branch (m/s), and whether it was located (a
+    /// located special point or the supercritical Hopf point) or is only the lowest stable
+    /// computed cycle
     pub nonlinear_critical_speed: Option<(f64, bool)>,
-    /// the cycles
+    /// what sets it: the lowest candidate of each kind (MODEL §9: every stable cycle counts)
+    pub nonlinear_sources: Vec<VnlCandidate>,
+    /// the branches, the one from the Hopf point first
+    pub branches: Vec<BranchRow>,
+    /// the cycles of every branch, branch by branch
     pub cycles: Vec<CycleRow>,
-    /// special points
+    /// special points of every branch
     pub special: Vec<SpecialRow>,
-    /// why the branch ended, in words
+    /// why the branch from the Hopf point ended, in words
     pub stop_reason: String,
+    /// notes in words: branches not followed (the `max_branches` limit, a failed switch),
+    /// branches cut where the contact geometry ends
+    pub notes: Vec<String>,
     /// centred motion: speed ranges (m/s) where it is stable (Kalker model of the study law)
     pub speed_range: (f64, f64),
     /// the layout ("wheelset", "bogie", "car")
@@ -184,6 +278,20 @@ pub fn cycle_at<const N: usize>(
     period: f64,
     rtol: f64,
 ) -> Result<(OrbitPoint<N>, crate::continuation::Floquet, usize), String> {
+    solve_cycle(model, speed, x0, period, rtol, true)
+}
+
+/// [`cycle_at`] for any cycle: `symmetric` solves $φ_{T/2}(x_0) = −x_0$ (a symmetric cycle,
+/// `period` its whole period), else $φ_T(x_0) = x_0$ (an asymmetric cycle, or one of several
+/// periods: `period` is then the whole of it).
+pub fn solve_cycle<const N: usize>(
+    model: &Vehicle,
+    speed: f64,
+    x0: [f64; N],
+    period: f64,
+    rtol: f64,
+    symmetric: bool,
+) -> Result<(OrbitPoint<N>, crate::continuation::Floquet, usize), String> {
     if N != model.states() {
         return Err(format!(
             "a start state of {N} values for a model of {} states",
@@ -202,7 +310,7 @@ pub fn cycle_at<const N: usize>(
     let c = Continuation {
         shooting: Shooting {
             field: model,
-            symmetric: true,
+            symmetric,
             ode,
             dp_rel: rtol.sqrt(),
             parallel: true,
@@ -212,6 +320,8 @@ pub fn cycle_at<const N: usize>(
         amplitude: &amplitude,
         progress: None,
         cancel: None,
+        extent: None,
+        rejoin: None,
     };
     c.solve_at(OrbitPoint {
         x0: SVector::from(x0),
@@ -316,115 +426,8 @@ pub fn analyse_with_hooks(
     opts: &BifurcationOptions,
     hooks: Hooks<'_>,
 ) -> Result<BifurcationReport, String> {
-    crate::with_states!(model.states(), N => analyse_states::<N>(study, model, opts, hooks),
+    crate::with_states!(model.states(), N => driver::analyse_states::<N>(study, model, opts, hooks),
         _ => Err(format!("no analysis is compiled for {} states", model.states())))
-}
-
-fn analyse_states<const N: usize>(
-    study: &str,
-    model: &Vehicle,
-    opts: &BifurcationOptions,
-    hooks: Hooks<'_>,
-) -> Result<BifurcationReport, String> {
-    let Hooks { progress, cancel } = hooks;
-    let ode = ode_options(opts.rtol)?;
-    let kalker = model.with_law(CreepLaw::Kalker);
-    let kalker_critical_speed_m_s = critical_speeds(
-        &LinearSystem::<N>::at_centre(&kalker),
-        CreepLaw::Kalker,
-        &LinearOptions {
-            speed_range: opts.speed_range,
-            ..LinearOptions::default()
-        },
-    )
-    .ok()
-    .and_then(|c| c.critical().map(|x| x.speed_m_s));
-    let mut report = BifurcationReport {
-        study: study.to_string(),
-        law: model.creep_law(),
-        kalker_critical_speed_m_s,
-        hopf: None,
-        hopf_type: None,
-        nonlinear_critical_speed: None,
-        cycles: Vec::new(),
-        special: Vec::new(),
-        stop_reason: String::new(),
-        speed_range: opts.speed_range,
-        layout: model.layout.name(),
-        body_names: model.bodies.iter().map(|b| b.name.clone()).collect(),
-        state_names: state_names(model),
-        stats: BranchStats::default(),
-    };
-    let Some((hopf, q)) = hopf_point::<N>(model, opts.speed_range) else {
-        report.stop_reason = format!(
-            "no Hopf point of the {} model in [{}, {}] m/s: the centred motion does not lose stability there",
-            model.creep_law().name(),
-            opts.speed_range.0,
-            opts.speed_range.1
-        );
-        return Ok(report);
-    };
-    report.hopf = Some(hopf);
-    let omega = 2.0 * std::f64::consts::PI * hopf.frequency_hz;
-    let a_ref = 1e-3;
-    // each coordinate scaled by its share of the Hopf eigenvector (the leading wheelset's y is
-    // 1): 1 mm of lateral amplitude ≈ 1 m/s of speed in the arclength
-    let shares = coordinate_shares(model, &q);
-    let mut scale: Vec<f64> = (0..N)
-        .map(|i| {
-            let share = shares.get(i % (N / 2)).copied().unwrap_or(1.0);
-            if i < N / 2 {
-                a_ref * share
-            } else {
-                a_ref * omega * share
-            }
-        })
-        .collect();
-    scale.extend([1.0 / hopf.frequency_hz, 1.0]);
-    let mut params = ContinuationParams::new(opts.speed_range, opts.max_amplitude, scale.clone());
-    params.ds_initial = 0.1;
-    params.ds_max = opts.ds_max;
-    params.max_points = opts.max_points;
-    // Newton cannot converge below the integration noise: tie its tolerance to rtol.
-    params.newton_tol = newton_tol(opts.rtol, N);
-    // max |y| over the cycle, located on the shooting integration's dense output
-    let amplitude = |_: &OrbitPoint<N>, peaks: &SVector<f64, N>| peaks[0];
-    let counter = std::sync::atomic::AtomicUsize::new(0);
-    let report_point = |p: &crate::continuation::BranchPoint<N>| {
-        if let Some(f) = progress {
-            let k = counter.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            f(k, p.orbit.param, p.amplitude);
-        }
-    };
-    let cont = Continuation {
-        shooting: Shooting {
-            field: model,
-            symmetric: true,
-            ode,
-            dp_rel: opts.rtol.sqrt(),
-            parallel: opts.parallel,
-            segments: opts.segment_count(),
-        },
-        params,
-        amplitude: &amplitude,
-        progress: Some(&report_point),
-        cancel,
-    };
-    let start = OrbitPoint {
-        x0: SVector::zeros(),
-        period: 1.0 / hopf.frequency_hz,
-        param: hopf.speed_m_s,
-    };
-    let direction = DVector::from_fn(N + 2, |i, _| {
-        if i < N {
-            a_ref * q[i].re / scale[i]
-        } else {
-            0.0
-        }
-    });
-    let branch = cont.run(start, direction);
-    fill(&mut report, &branch, model);
-    Ok(report)
 }
 
 /// Newton's tolerance on the scaled update: it cannot converge below the integration noise,
@@ -448,7 +451,7 @@ fn newton_tol(rtol: f64, states: usize) -> f64 {
 /// scaled update (to be converged to ~1e-16 rad), and the continuation crept along at steps of
 /// 1e-5 m/s near the 149.8 m/s fold. The single wheelset has one coordinate of each kind, so
 /// its scales are unchanged.
-fn coordinate_shares(model: &Vehicle, q: &[nalgebra::Complex<f64>]) -> Vec<f64> {
+fn coordinate_shares_of(model: &Vehicle, q: &[nalgebra::Complex<f64>]) -> Vec<f64> {
     let names = model.coordinate_names();
     let n = names.len().min(q.len());
     let lateral = |i: usize| names[i].starts_with("y_");
@@ -460,168 +463,4 @@ fn coordinate_shares(model: &Vehicle, q: &[nalgebra::Complex<f64>]) -> Vec<f64> 
     };
     let (y, angle) = (largest(true), largest(false));
     (0..n).map(|i| if lateral(i) { y } else { angle }).collect()
-}
-
-fn fill<const N: usize>(report: &mut BifurcationReport, branch: &Branch<N>, model: &Vehicle) {
-    report.stats = branch.stats;
-    report.cycles = branch
-        .points
-        .iter()
-        .map(|p| CycleRow {
-            speed_m_s: p.orbit.param,
-            amplitude_y_m: p.amplitude,
-            amplitude_psi_rad: p.peaks[1],
-            period_s: p.orbit.period,
-            stable: p.floquet.stable(),
-            max_multiplier_abs: p.floquet.max_nontrivial,
-            trivial_multiplier_error: p.floquet.trivial_error,
-            newton_iterations: p.newton_iterations,
-            x0: p.orbit.x0.iter().copied().collect(),
-            multipliers: (0..N)
-                .map(|k| {
-                    p.floquet
-                        .multipliers
-                        .get(k)
-                        .map_or((f64::NAN, f64::NAN), |m| (m.re, m.im))
-                })
-                .collect(),
-            // every body's max |y| and max |ψ|, located on the same dense output
-            body_amplitudes: if N == 4 {
-                Vec::new()
-            } else {
-                model
-                    .bodies
-                    .iter()
-                    .map(|b| (p.peaks[b.dof], p.peaks[b.dof + 1]))
-                    .collect()
-            },
-        })
-        .collect();
-    report.special = branch
-        .special
-        .iter()
-        .map(|s| SpecialRow {
-            kind: s.kind,
-            speed_m_s: s.orbit.param,
-            amplitude_y_m: s.amplitude,
-            located: s.located,
-        })
-        .collect();
-    report.stop_reason = match branch.stop {
-        BranchStop::ParamBound { param } => format!("speed bound reached ({param:.4} m/s)"),
-        BranchStop::AmplitudeBound { amplitude } => {
-            format!("amplitude bound reached ({:.3} mm)", amplitude * 1e3)
-        }
-        BranchStop::MaxPoints => format!("step limit reached ({} cycles)", branch.points.len()),
-        BranchStop::StepTooSmall { param, newton } => {
-            format!("step too small at {param:.4} m/s (Newton: {newton:?})")
-        }
-        BranchStop::Cancelled => format!("cancelled after {} cycles", branch.points.len()),
-    };
-    let hopf_speed = report.hopf.map(|h| h.speed_m_s);
-    report.hopf_type = match (hopf_speed, report.cycles.first()) {
-        (Some(v), Some(c)) if c.speed_m_s < v => Some(HopfType::Subcritical),
-        (Some(_), Some(_)) => Some(HopfType::Supercritical),
-        _ => None,
-    };
-    report.nonlinear_critical_speed = nonlinear_critical_speed(report);
-}
-
-/// MODEL §9: the lowest speed at which a stable cycle exists: the supercritical Hopf speed, a
-/// located fold next to a stable stretch, or else the lowest stable computed cycle, whichever is
-/// lowest. A supercritical branch can fold back below its Hopf point further on (flange contact
-/// of real profiles does this): its stable cycles there set V_NL, not the Hopf speed.
-fn nonlinear_critical_speed(r: &BifurcationReport) -> Option<(f64, bool)> {
-    let hopf = (r.hopf_type == Some(HopfType::Supercritical)
-        && r.cycles.first().is_some_and(|c| c.stable))
-    .then(|| r.hopf.map(|h| (h.speed_m_s, true)))
-    .flatten();
-    let folds = r
-        .special
-        .iter()
-        .filter(|s| s.kind == SpecialKind::Fold)
-        .map(|s| (s.speed_m_s, s.located));
-    let stable = r
-        .cycles
-        .iter()
-        .filter(|c| c.stable)
-        .map(|c| (c.speed_m_s, false));
-    let lowest_stable = stable.clone().map(|s| s.0).fold(f64::INFINITY, f64::min);
-    // a fold counts when it lies at (or below) the lowest stable cycle: the stable part turns there
-    folds
-        .filter(|(v, _)| *v <= lowest_stable + 1e-9 * lowest_stable.abs().max(1.0))
-        .chain(stable)
-        .chain(hopf)
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::stability::Direction;
-
-    fn cycle(speed_m_s: f64, stable: bool) -> CycleRow {
-        CycleRow {
-            speed_m_s,
-            amplitude_y_m: 1e-3,
-            amplitude_psi_rad: 1e-3,
-            period_s: 0.1,
-            stable,
-            max_multiplier_abs: if stable { 0.5 } else { 2.0 },
-            trivial_multiplier_error: 0.0,
-            newton_iterations: 2,
-            x0: vec![0.0; 4],
-            multipliers: vec![(1.0, 0.0); 4],
-            body_amplitudes: Vec::new(),
-        }
-    }
-
-    fn fold(speed_m_s: f64) -> SpecialRow {
-        SpecialRow {
-            kind: SpecialKind::Fold,
-            speed_m_s,
-            amplitude_y_m: 5e-3,
-            located: true,
-        }
-    }
-
-    /// A supercritical branch (stable from V_H = 100) that turns back at 110, comes down to a
-    /// fold at 80 and is stable again above it: the lowest stable cycle is near 80, so V_NL is the
-    /// fold at 80 (MODEL §9), not the Hopf speed. Without the fold-back V_NL is V_H.
-    #[test]
-    fn nonlinear_critical_speed_is_the_lowest_stable_cycle() {
-        let hopf = Crossing {
-            speed_m_s: 100.0,
-            frequency_hz: 5.0,
-            wavelength_m: 20.0,
-            direction: Direction::Onset,
-            bracket_m_s: 1e-12,
-        };
-        let mut r = BifurcationReport {
-            study: "synthetic".into(),
-            law: CreepLaw::Shen { friction: 0.3 },
-            kalker_critical_speed_m_s: Some(100.0),
-            hopf: Some(hopf),
-            hopf_type: Some(HopfType::Supercritical),
-            nonlinear_critical_speed: None,
-            cycles: vec![cycle(100.5, true), cycle(110.0, true), cycle(95.0, false)],
-            special: vec![fold(110.2)],
-            stop_reason: String::new(),
-            speed_range: (1.0, 200.0),
-            layout: "wheelset",
-            body_names: vec!["wheelset 1".into()],
-            state_names: Vec::new(),
-            stats: BranchStats::default(),
-        };
-        let v = nonlinear_critical_speed(&r).map(|v| v.0);
-        assert!(v.is_some_and(|v| (v - 100.0).abs() < 1e-12), "{v:?}");
-        r.cycles
-            .extend([cycle(80.0, false), cycle(80.5, true), cycle(90.0, true)]);
-        r.special.push(fold(79.9));
-        let v = nonlinear_critical_speed(&r);
-        assert!(
-            v.is_some_and(|(v, located)| (v - 79.9).abs() < 1e-12 && located),
-            "{v:?}"
-        );
-    }
 }
