@@ -228,6 +228,42 @@ fn stability_runs(cycles: &[&crate::bifurcation::CycleRow]) -> Vec<(bool, Vec<(f
 /// (symmetric, asymmetric, period-2, …), stable cycles solid, unstable dashed, the centred
 /// solution along the axis, the special points by kind, Hopf, Kalker and V_NL marked.
 pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> Result<String, PlotError> {
+    render_svg(&bifurcation_figure(r), 1000, 650)
+}
+
+/// `attractors.svg`: every attractor the search found, amplitude (the leading wheelset's max
+/// |y|) against speed along its descent, drawn over the continued branches, with the speeds
+/// where each dies and V_NL marked.
+pub fn attractors(
+    r: &crate::attractors::AttractorReport,
+    b: &crate::bifurcation::BifurcationReport,
+) -> Result<String, PlotError> {
+    let mut fig = bifurcation_figure(b);
+    fig.title = format!("{}: attractors over the continued branches", r.study);
+    for a in &r.attractors {
+        let dies = a.dies_m_s.map_or(String::new(), |d| {
+            format!(", dies in [{:.2}, {:.2}] m/s", d.0, d.1)
+        });
+        fig.series.push(Series {
+            name: format!("attractor {}: {}{dies}", a.id, a.kind.name()),
+            points: a
+                .path
+                .iter()
+                .map(|m| (m.speed_m_s, m.amplitude_m() * 1e3))
+                .collect(),
+            style: Style::Points,
+        });
+    }
+    for sp in &r.speeds {
+        fig.vlines.push(Marker {
+            at: sp.speed_m_s,
+            label: String::new(),
+        });
+    }
+    render_svg(&fig, 1100, 700)
+}
+
+fn bifurcation_figure(r: &crate::bifurcation::BifurcationReport) -> Figure {
     use crate::bifurcation::BranchKind;
     let mut fig = figure(
         &format!("{}: hunting limit cycles ({} creep)", r.study, r.law.name()),
@@ -258,7 +294,11 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> Result<String, 
             .filter(|b| b.kind == kind)
             .map(|b| b.id)
             .collect();
-        for id in ids.iter().copied().chain(r.branches.is_empty().then_some(0)) {
+        for id in ids
+            .iter()
+            .copied()
+            .chain(r.branches.is_empty().then_some(0))
+        {
             let cycles: Vec<_> = r.cycles.iter().filter(|c| c.branch == id).collect();
             for (stable, pts) in stability_runs(&cycles) {
                 let line = &mut lines[usize::from(!stable)];
@@ -326,7 +366,11 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> Result<String, 
         let of: Vec<_> = r.special.iter().filter(|s| s.kind == kind).collect();
         let speeds: Vec<String> = of.iter().map(|s| format!("{:.2}", s.speed_m_s)).collect();
         let name = if of.len() <= 4 {
-            format!("{} {} m/s", kind.name().replace('_', " "), speeds.join(", "))
+            format!(
+                "{} {} m/s",
+                kind.name().replace('_', " "),
+                speeds.join(", ")
+            )
         } else {
             format!("{} ({} points)", kind.name().replace('_', " "), of.len())
         };
@@ -357,7 +401,7 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> Result<String, 
             ),
         });
     }
-    render_svg(&fig, 1000, 650)
+    fig
 }
 
 /// `simulate.svg`: y(t) and ψ(t) for each speed, and the y–ẏ phase portrait.

@@ -50,6 +50,7 @@
 
 pub mod analysis;
 pub mod api;
+pub mod attractors;
 pub mod bifurcation;
 pub mod cli;
 pub mod conicity;

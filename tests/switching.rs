@@ -4,8 +4,8 @@
 //! parameter values, joined by a branch of doubled cycles. Independent of any wheelset.
 
 use critspeed::continuation::{
-    switch_at, Branch, BranchStop, Continuation, ContinuationParams, OrbitPoint, Rejoin,
-    Shooting, SpecialKind,
+    switch_at, Branch, BranchStop, Continuation, ContinuationParams, OrbitPoint, Rejoin, Shooting,
+    SpecialKind,
 };
 use critspeed::reference::switching::{PeriodDoublingForm, SymmetryBreakingForm};
 use critspeed::system::ode::{OdeOptions, Tolerances, VectorField};
@@ -122,7 +122,11 @@ fn the_asymmetric_branch_is_the_closed_form_and_rejoins_at_the_second_point() {
             let (mu, x) = (p.orbit.param, p.orbit.x0);
             let h = SB.h(mu);
             assert!((x[0] * x[0] + x[1] * x[1] - mu).abs() < 1e-9, "r² at {mu}");
-            assert!((x[2] * x[2] - h).abs() < 1e-9, "z² {} against h {h} at {mu}", x[2] * x[2]);
+            assert!(
+                (x[2] * x[2] - h).abs() < 1e-9,
+                "z² {} against h {h} at {mu}",
+                x[2] * x[2]
+            );
             assert_eq!(x[2].signum(), z_sign, "one side of the mirror pair");
             assert!((p.orbit.period - 1.0).abs() < 1e-10);
             let mut got: Vec<f64> = p.floquet.multipliers.iter().map(|m| m.re).collect();
@@ -197,7 +201,10 @@ fn the_doubled_branch_is_the_closed_form_and_rejoins_at_the_second_point() {
     for p in &branch.points {
         let (s, x) = (p.orbit.param, p.orbit.x0);
         let h = PD.h(s);
-        assert!((x[2] * x[2] + x[3] * x[3] - h).abs() < 1e-9, "|w|² against {h} at {s}");
+        assert!(
+            (x[2] * x[2] + x[3] * x[3] - h).abs() < 1e-9,
+            "|w|² against {h} at {s}"
+        );
         assert!((p.orbit.period - 2.0).abs() < 1e-10);
         let mut got: Vec<f64> = p.floquet.multipliers.iter().map(|m| m.re).collect();
         let mut want = vec![1.0, (-4.0f64).exp(), (-4.0 * h).exp(), (-2.0f64).exp()];
@@ -216,4 +223,3 @@ fn the_doubled_branch_is_the_closed_form_and_rejoins_at_the_second_point() {
     assert_eq!(branch.special.len(), 1, "{:?}", branch.special);
     assert_eq!(branch.special[0].kind, SpecialKind::PeriodDoubling);
 }
-

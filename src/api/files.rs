@@ -55,6 +55,28 @@ pub fn bifurcation(r: &BifurcationReport) -> Result<Vec<File>, Failure> {
     ])
 }
 
+/// `attractors.json`, `attractors.csv` and `attractors.svg` (with the continuation `b` that
+/// ran before the search).
+pub fn attractors(
+    r: &crate::attractors::AttractorReport,
+    b: &BifurcationReport,
+) -> Result<Vec<File>, Failure> {
+    Ok(vec![
+        (
+            "attractors.json".into(),
+            json_text(&output::attractors_json(r, b))?.into_bytes(),
+        ),
+        (
+            "attractors.csv".into(),
+            output::attractors_csv(r).into_bytes(),
+        ),
+        (
+            "attractors.svg".into(),
+            figures::attractors(r, b).map_err(plot)?.into_bytes(),
+        ),
+    ])
+}
+
 /// `simulate.csv` and `simulate.svg`.
 pub fn simulate(study: &str, runs: &[TimeHistory]) -> Result<Vec<File>, Failure> {
     Ok(vec![

@@ -25,7 +25,7 @@ pub use source::Source;
 
 /// Column types of the CSV files read back by [`columns`].
 pub mod kinds {
-    pub use super::columns::{BRANCH, NUMBERS, SWEEP};
+    pub use super::columns::{ATTRACTORS, BRANCH, NUMBERS, SWEEP};
 }
 
 use crate::analysis::{self, GeometryReport, LinearReport};
@@ -130,6 +130,50 @@ pub fn bifurcation(p: &Prepared, hooks: Hooks<'_>) -> Result<BifurcationReport, 
         )));
     }
     Ok(report)
+}
+
+/// The search for every attractor (`[attractors]`, or its defaults), after the continuation
+/// with branch switching whose stable cycles it starts from and matches; the continuation's
+/// report comes back with the one V_NL of both methods ([`crate::bifurcation::vnl::combine`]).
+/// `progress` gets a line of text per speed and per descent.
+pub fn attractors(
+    p: &Prepared,
+    hooks: Hooks<'_>,
+    progress: Option<&(dyn Fn(&str) + Sync)>,
+) -> Result<(crate::attractors::AttractorReport, BifurcationReport), Failure> {
+    let mut b = bifurcation(p, hooks)?;
+    let r = search(p, &b, hooks.cancel, progress)?;
+    crate::bifurcation::vnl::combine(&mut b, &r);
+    Ok((r, b))
+}
+
+/// The search alone, given the continuation's report `b` (its Hopf speed sets the default
+/// grid, its stable cycles are starts).
+pub fn search(
+    p: &Prepared,
+    b: &BifurcationReport,
+    cancel: Cancel<'_>,
+    progress: Option<&(dyn Fn(&str) + Sync)>,
+) -> Result<crate::attractors::AttractorReport, Failure> {
+    let bo = p.plan.bifurcation_options();
+    let opts = p.plan.attractors.clone().unwrap_or_default().options(
+        bo.speed_range,
+        b.hopf.map(|h| h.speed_m_s),
+        bo.geometry_limit,
+    );
+    let r = crate::attractors::search_with_hooks(
+        &p.plan.name,
+        &p.model,
+        &opts,
+        Some(b),
+        progress,
+        cancel,
+    )
+    .map_err(|e| compute(anyhow!(e)))?;
+    if cancel.is_some_and(|c| c()) {
+        return Err(compute(anyhow!("attractor search cancelled")));
+    }
+    Ok(r)
 }
 
 /// The contact geometry table.

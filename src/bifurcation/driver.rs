@@ -229,7 +229,11 @@ fn same_point(a: (f64, f64), b: (f64, f64)) -> bool {
 
 /// Switches at every symmetry-breaking point of a symmetric branch and every period doubling
 /// of a full-period one, breadth first, until `max_branches` branches exist.
-fn switch_all<const N: usize>(setup: &Setup<'_, N>, runs: &mut Vec<Run<N>>, notes: &mut Vec<String>) {
+fn switch_all<const N: usize>(
+    setup: &Setup<'_, N>,
+    runs: &mut Vec<Run<N>>,
+    notes: &mut Vec<String>,
+) {
     // the parents' points already met by a child that rejoined there
     let mut met: Vec<(usize, usize)> = Vec::new();
     let mut next = 0;
@@ -281,7 +285,8 @@ fn switch_all<const N: usize>(setup: &Setup<'_, N>, runs: &mut Vec<Run<N>>, note
                             for (ri, r) in runs.iter().enumerate() {
                                 for (si, sp) in r.branch.special.iter().enumerate() {
                                     let joinable = sp.kind == end.kind
-                                        && r.symmetric == (end.kind == SpecialKind::SymmetryBreaking)
+                                        && r.symmetric
+                                            == (end.kind == SpecialKind::SymmetryBreaking)
                                         && (ri, si) != (next, k);
                                     if joinable && same_point((sp.orbit.param, sp.amplitude), at) {
                                         met.push((ri, si));
@@ -421,16 +426,20 @@ fn fill<const N: usize>(
         t.newton_iterations += s.newton_iterations;
         t.integrator_steps += s.integrator_steps;
         t.integrator_rejected += s.integrator_rejected;
-        report.cycles.extend(r.branch.points.iter().map(|p| cycle_row(id, p, model)));
+        report
+            .cycles
+            .extend(r.branch.points.iter().map(|p| cycle_row(id, p, model)));
         let first_cycle = report.cycles.len() - r.branch.points.len();
-        report.special.extend(r.branch.special.iter().map(|s| SpecialRow {
-            branch: id,
-            after: first_cycle + s.after,
-            kind: s.kind,
-            speed_m_s: s.orbit.param,
-            amplitude_y_m: s.amplitude,
-            located: s.located,
-        }));
+        report
+            .special
+            .extend(r.branch.special.iter().map(|s| SpecialRow {
+                branch: id,
+                after: first_cycle + s.after,
+                kind: s.kind,
+                speed_m_s: s.orbit.param,
+                amplitude_y_m: s.amplitude,
+                located: s.located,
+            }));
         report.branches.push(BranchRow {
             id,
             kind: r.kind,
@@ -446,7 +455,10 @@ fn fill<const N: usize>(
         .map(|b| b.stop_reason.clone())
         .unwrap_or_default();
     let hopf_speed = report.hopf.map(|h| h.speed_m_s);
-    report.hopf_type = match (hopf_speed, runs.first().and_then(|r| r.branch.points.first())) {
+    report.hopf_type = match (
+        hopf_speed,
+        runs.first().and_then(|r| r.branch.points.first()),
+    ) {
         (Some(v), Some(c)) if c.orbit.param < v => Some(HopfType::Subcritical),
         (Some(_), Some(_)) => Some(HopfType::Supercritical),
         _ => None,

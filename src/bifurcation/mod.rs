@@ -305,7 +305,7 @@ pub fn solve_cycle<const N: usize>(
         .collect();
     scale.extend([period, 1.0]);
     let mut params = ContinuationParams::new((0.0, f64::INFINITY), f64::INFINITY, scale);
-    params.newton_tol = (10.0 * rtol).max(1e-10);
+    params.newton_tol = newton_tol(rtol, N);
     params.newton_max_iter = 20;
     let c = Continuation {
         shooting: Shooting {

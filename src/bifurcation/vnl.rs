@@ -116,6 +116,68 @@ pub fn from_continuation(r: &BifurcationReport) -> (Option<(f64, bool)>, Vec<Vnl
     }
 }
 
+/// The search's candidate: its lowest hunting attractor.
+pub fn search_candidate(r: &crate::attractors::AttractorReport) -> Option<VnlCandidate> {
+    let (v, bracket, id) = r.nonlinear_critical_speed?;
+    let a = r.attractors.get(id)?;
+    Some(VnlCandidate {
+        speed_m_s: v,
+        located: bracket.is_some(),
+        method: VnlMethod::AttractorSearch,
+        what: format!("{} (attractor {id})", a.kind.name()),
+        branch: a.branch.map(|b| b.0),
+        bracket_m_s: bracket,
+    })
+}
+
+/// Joins the search's result to the continuation's report: V_NL becomes the lowest of both,
+/// the sources list each method's lowest candidate, and a disagreement larger than the search's
+/// bracket is said in words in the report's notes.
+pub fn combine(b: &mut BifurcationReport, search: &crate::attractors::AttractorReport) {
+    let cont = lowest(&continuation_candidates(b)).cloned();
+    let found = search_candidate(search);
+    let mut sources: Vec<VnlCandidate> = cont.iter().chain(found.iter()).cloned().collect();
+    sources.sort_by(|x, y| x.speed_m_s.total_cmp(&y.speed_m_s));
+    if let Some(best) = sources.first() {
+        b.nonlinear_critical_speed = Some((best.speed_m_s, best.located));
+    }
+    let width = search.options.bracket;
+    let text = match (&cont, &found) {
+        (Some(c), Some(s)) if (c.speed_m_s - s.speed_m_s).abs() > width => Some(format!(
+            "the continuation and the attractor search disagree: the continuation's lowest stable motion is {:.4} m/s ({}), the search's {:.4} m/s ({}{}), {:.3} m/s apart, more than the search's bracket of {width} m/s. {}",
+            c.speed_m_s,
+            c.what,
+            s.speed_m_s,
+            s.what,
+            s.bracket_m_s.map_or(String::new(), |d| format!(", dies in [{:.4}, {:.4}] m/s", d.0, d.1)),
+            (c.speed_m_s - s.speed_m_s).abs(),
+            if s.speed_m_s < c.speed_m_s {
+                "The search found hunting below every stable cycle the continuation reached: an attractor that no followed branch leads to (or one on a branch not followed: see max_branches), a torus or chaos. V_NL is the search's."
+            } else {
+                "The continuation has stable cycles below where every attractor the search followed died: their basins missed the search's initial states, or the descents left them at a jump. V_NL is the continuation's."
+            }
+        )),
+        (Some(c), None) => Some(format!(
+            "the attractor search found no hunting attractor, while the continuation has stable cycles down to {:.4} m/s ({}): their basins missed the search's initial states",
+            c.speed_m_s, c.what
+        )),
+        (None, Some(s)) => Some(format!(
+            "the continuation found no stable cycle, while the search found hunting down to {:.4} m/s ({})",
+            s.speed_m_s, s.what
+        )),
+        _ => None,
+    };
+    if let Some(t) = text {
+        b.notes.push(t);
+    } else if let (Some(c), Some(s)) = (&cont, &found) {
+        b.notes.push(format!(
+            "the continuation ({:.4} m/s, {}) and the attractor search ({:.4} m/s, {}) agree within the search's bracket of {width} m/s",
+            c.speed_m_s, c.what, s.speed_m_s, s.what
+        ));
+    }
+    b.nonlinear_sources = sources;
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -201,17 +263,30 @@ mod tests {
     #[test]
     fn the_lowest_stable_cycle_of_the_branch_sets_v_nl() {
         let mut r = report(
-            vec![cycle(0, 100.5, true), cycle(0, 110.0, true), cycle(0, 95.0, false)],
+            vec![
+                cycle(0, 100.5, true),
+                cycle(0, 110.0, true),
+                cycle(0, 95.0, false),
+            ],
             vec![special(0, SpecialKind::Fold, 110.2, 1)],
         );
         let (v, src) = from_continuation(&r);
-        assert!(v.is_some_and(|v| (v.0 - 100.0).abs() < 1e-12 && v.1), "{v:?}");
+        assert!(
+            v.is_some_and(|v| (v.0 - 100.0).abs() < 1e-12 && v.1),
+            "{v:?}"
+        );
         assert_eq!(src[0].what, "supercritical Hopf point");
-        r.cycles
-            .extend([cycle(0, 80.0, false), cycle(0, 80.5, true), cycle(0, 90.0, true)]);
+        r.cycles.extend([
+            cycle(0, 80.0, false),
+            cycle(0, 80.5, true),
+            cycle(0, 90.0, true),
+        ]);
         r.special.push(special(0, SpecialKind::Fold, 79.9, 3));
         let (v, src) = from_continuation(&r);
-        assert!(v.is_some_and(|(v, located)| (v - 79.9).abs() < 1e-12 && located), "{v:?}");
+        assert!(
+            v.is_some_and(|(v, located)| (v - 79.9).abs() < 1e-12 && located),
+            "{v:?}"
+        );
         assert_eq!(src[0].what, "fold of symmetric cycles");
     }
 

@@ -40,6 +40,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
             }
             Ok(())
         }
+        Command::Attractors { study, json } => super::attractors::command(study, *json, &cli.out),
         Command::Simulate {
             study,
             speed,
@@ -135,6 +136,11 @@ pub(super) fn linear(p: &Prepared, root: &Path) -> Result<LinearReport, Failure>
     let report = api::linear(p)?;
     write_all(&out_dir(root, p.plan())?, &files::linear(&report)?)?;
     Ok(report)
+}
+
+/// The hooks of a command-line analysis: none (Ctrl-C ends the process).
+pub(super) fn bifurcation_hooks() -> Hooks<'static> {
+    Hooks::default()
 }
 
 pub(super) fn bifurcation(p: &Prepared, root: &Path) -> Result<BifurcationReport, Failure> {

@@ -7,6 +7,7 @@
 
 #![deny(clippy::print_stdout, clippy::print_stderr)]
 
+mod attractors;
 mod commands;
 mod conicity;
 mod console;
@@ -54,6 +55,16 @@ pub enum Command {
     /// The branch of hunting limit cycles from the Hopf point of the study's creep law:
     /// stability (Floquet multipliers), folds, the nonlinear critical speed, the diagram.
     Bifurcation {
+        /// Study file (TOML).
+        study: PathBuf,
+        /// Print one JSON object on stdout instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Every hunting attractor: simulations from many initial states over a descending
+    /// sequence of speeds, each attractor followed down until it dies, with the continuation
+    /// (branch switching) beside it; the one V_NL of both (attractors.json, .csv, .svg).
+    Attractors {
         /// Study file (TOML).
         study: PathBuf,
         /// Print one JSON object on stdout instead of the table.

@@ -333,7 +333,11 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> String {
             c.what,
             c.method.name(),
             c.branch.map_or(String::new(), |b| format!(", branch {b}")),
-            if c.located { "located" } else { "lowest computed, not located" }
+            if c.located {
+                "located"
+            } else {
+                "lowest computed, not located"
+            }
         )
     });
     let _ = writeln!(

@@ -503,7 +503,10 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                         .last()
                         .is_some_and(|s| s.after == at.0 && s.kind == SpecialKind::Fold);
                     let sp = if fold_here {
-                        special.pop().map(|s| SpecialPoint { kind: r.kind(), ..s })
+                        special.pop().map(|s| SpecialPoint {
+                            kind: r.kind(),
+                            ..s
+                        })
                     } else {
                         None
                     };

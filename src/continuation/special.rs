@@ -91,10 +91,11 @@ pub fn crossings(a: &Floquet, b: &Floquet, symmetric: bool) -> Vec<SpecialKind> 
 pub fn test_value(kind: SpecialKind, f: &Floquet) -> f64 {
     let m = f.shooting_multipliers();
     match kind {
-        SpecialKind::SymmetryBreaking | SpecialKind::PeriodDoubling => m
-            .iter()
-            .fold(Complex::new(1.0, 0.0), |acc, v| acc * (v + 1.0))
-            .re,
+        SpecialKind::SymmetryBreaking | SpecialKind::PeriodDoubling => {
+            m.iter()
+                .fold(Complex::new(1.0, 0.0), |acc, v| acc * (v + 1.0))
+                .re
+        }
         SpecialKind::Torus => m
             .iter()
             .filter(|v| !is_real(v))
@@ -123,7 +124,10 @@ mod tests {
             .map(|(_, v)| v.norm())
             .fold(0.0, f64::max);
         Floquet {
-            multipliers: m.iter().map(|v| if symmetric { v * v } else { *v }).collect(),
+            multipliers: m
+                .iter()
+                .map(|v| if symmetric { v * v } else { *v })
+                .collect(),
             half: symmetric.then(|| m.clone()),
             trivial_error: 0.0,
             max_nontrivial,
@@ -134,8 +138,14 @@ mod tests {
     #[test]
     fn a_real_multiplier_through_minus_one_is_symmetry_breaking_or_doubling() {
         for symmetric in [true, false] {
-            let a = floquet(&[(1.0, 0.0), (-0.9, 0.0), (0.1, 0.2), (0.1, -0.2)], symmetric);
-            let b = floquet(&[(1.0, 0.0), (-1.1, 0.0), (0.1, 0.2), (0.1, -0.2)], symmetric);
+            let a = floquet(
+                &[(1.0, 0.0), (-0.9, 0.0), (0.1, 0.2), (0.1, -0.2)],
+                symmetric,
+            );
+            let b = floquet(
+                &[(1.0, 0.0), (-1.1, 0.0), (0.1, 0.2), (0.1, -0.2)],
+                symmetric,
+            );
             let kind = if symmetric {
                 SpecialKind::SymmetryBreaking
             } else {
@@ -159,7 +169,10 @@ mod tests {
         assert!(ga < 0.0 && gb > 0.0, "{ga} {gb}");
         // two real multipliers below −1 meet and become a complex pair outside: no crossing
         let c = floquet(&[(1.0, 0.0), (-1.5, 0.0), (-1.4, 0.0), (0.2, 0.0)], false);
-        let d = floquet(&[(1.0, 0.0), (-1.45, 0.1), (-1.45, -0.1), (0.2, 0.0)], false);
+        let d = floquet(
+            &[(1.0, 0.0), (-1.45, 0.1), (-1.45, -0.1), (0.2, 0.0)],
+            false,
+        );
         assert!(crossings(&c, &d, false).is_empty());
         // a multiplier through +1 (a fold) is not reported here
         let e = floquet(&[(1.0, 0.0), (0.9, 0.0), (0.2, 0.0)], false);

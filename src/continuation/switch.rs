@@ -101,7 +101,11 @@ pub fn switch_at<const N: usize, F: VectorField<N>>(
     // no component along the flow (a phase shift)
     let f = shooting.field.rhs(&z.x0, z.param);
     let ff = f.dot(&f);
-    let v = if ff > 0.0 { v - f * (v.dot(&f) / ff) } else { v };
+    let v = if ff > 0.0 {
+        v - f * (v.dot(&f) / ff)
+    } else {
+        v
+    };
     let s = |i: usize| scale.get(i).copied().unwrap_or(1.0);
     let mut d = DVector::from_fn(N + 2, |i, _| if i < N { v[i] / s(i) } else { 0.0 });
     if let Some(t) = parent_tangent.filter(|t| t.len() == N + 2) {
@@ -146,10 +150,7 @@ fn inverse_iteration<const N: usize>(
     lambda: f64,
 ) -> Option<nalgebra::SVector<f64, N>> {
     let shift = lambda + 1e-10 * lambda.abs().max(1.0);
-    let lu = DMatrix::from_fn(N, N, |i, j| {
-        a[(i, j)] - if i == j { shift } else { 0.0 }
-    })
-    .lu();
+    let lu = DMatrix::from_fn(N, N, |i, j| a[(i, j)] - if i == j { shift } else { 0.0 }).lu();
     // a start with a component along every eigenvector, in general
     let mut v = DVector::from_fn(N, |i, _| 1.0 + 0.1 * i as f64);
     for _ in 0..3 {

@@ -3,6 +3,7 @@
 //! Numbers are written with Rust's shortest round-trip formatting, so a program reading the
 //! CSV or JSON gets exactly the `f64` that was computed. Every CSV header carries its unit.
 
+mod attractors;
 mod plan;
 
 use std::fmt::Write as _;
@@ -13,6 +14,7 @@ use serde_json::{json, Value};
 use crate::analysis::{GeometryReport, LinearReport};
 use crate::stability::{CriticalSpeeds, Crossing, Spectrum};
 
+pub use attractors::{attractors_csv, attractors_json, ATTRACTOR_KIND};
 pub use plan::plan_json;
 
 /// What every linear output calls the speeds it reports.

@@ -5,6 +5,7 @@
 //! documentation test demands each be documented). [`DEFAULT_STUDY`] is the seed study and
 //! [`HUNTING_STUDY`] the seed made to hunt, both embedded in the binary for the first run.
 
+mod attractors;
 pub mod keys;
 mod profiles;
 pub mod schema;
@@ -23,6 +24,7 @@ use crate::model::{
     layouts, Flange, PrimaryVertical, Suspension, Vehicle, VehicleSpec, Wheelset, WheelsetParams,
 };
 use crate::stability::LinearOptions;
+pub use attractors::AttractorSettings;
 use schema::{Quantity, StudyFile};
 use units::{parse_quantity, Dimension, UnitProblem};
 
@@ -133,6 +135,8 @@ pub struct Plan {
     pub spectrum_points: usize,
     /// the `[bifurcation]` section, when the study has one
     pub bifurcation: Option<BifurcationOptions>,
+    /// the `[attractors]` section, when the study has one
+    pub attractors: Option<AttractorSettings>,
 }
 
 /// Reads and validates a study file.
@@ -322,6 +326,14 @@ pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyErr
             geometry_limit: contact.valid_half_width(),
             ..b
         });
+    let bifurcation_range = bifurcation
+        .as_ref()
+        .map_or(linear.speed_range, |b| b.speed_range);
+    let attractors = f
+        .attractors
+        .as_ref()
+        .map(|a| attractors::plan(a, bifurcation_range, contact.valid_half_width()))
+        .transpose()?;
     Ok(Plan {
         name: f.name,
         description: f.description.unwrap_or_default(),
@@ -334,6 +346,7 @@ pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyErr
         linear,
         spectrum_points,
         bifurcation,
+        attractors,
     })
 }
 

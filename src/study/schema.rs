@@ -45,6 +45,9 @@ pub struct StudyFile {
     pub linear: Option<LinearSection>,
     #[serde(default)]
     pub bifurcation: Option<BifurcationSection>,
+    /// the search for every attractor (`critspeed attractors`)
+    #[serde(default)]
+    pub attractors: Option<AttractorsSection>,
     /// parameter sweep (`critspeed sweep`)
     #[serde(default)]
     pub sweep: Option<SweepSection>,
@@ -258,6 +261,42 @@ pub struct BifurcationSection {
     /// branches continued at most (default 8)
     #[serde(default)]
     pub max_branches: Option<usize>,
+}
+
+/// `[attractors]`: the search for every attractor over speed.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AttractorsSection {
+    /// the grid's lowest and highest speed
+    #[serde(default)]
+    pub speed_range: Option<[Quantity; 2]>,
+    /// grid speeds
+    #[serde(default)]
+    pub speeds: Option<usize>,
+    /// kick amplitudes
+    #[serde(default)]
+    pub amplitudes: Option<Vec<Quantity>>,
+    /// longest simulation of one motion
+    #[serde(default)]
+    pub settle: Option<Quantity>,
+    /// width of the bracket of each attractor's death speed
+    #[serde(default)]
+    pub bracket: Option<Quantity>,
+    /// largest descent step, relative to the speed
+    #[serde(default)]
+    pub descent_step: Option<f64>,
+    /// the lowest speed a descent goes to
+    #[serde(default)]
+    pub lowest: Option<Quantity>,
+    /// equilibrium threshold on every body's lateral excursion
+    #[serde(default)]
+    pub threshold: Option<Quantity>,
+    /// integrator relative tolerance of the simulations
+    #[serde(default)]
+    pub rtol: Option<f64>,
+    /// largest period (returns to the section) recognised as a cycle
+    #[serde(default)]
+    pub max_period: Option<usize>,
 }
 
 /// `[sweep]`: a grid over one or two numeric study keys.

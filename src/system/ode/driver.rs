@@ -332,3 +332,69 @@ pub fn integrate_to_section<const N: usize, F: VectorField<N>>(
     let hooked = run.hooked;
     Ok(hooked.then_some(checked(run)?))
 }
+
+/// One return of a trajectory to a Poincaré section ([`integrate_sections`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Return<const N: usize> {
+    /// time of the crossing
+    pub t: f64,
+    /// the state there (on the step's continuous extension)
+    pub x: SVector<f64, N>,
+    /// the largest value of each component since the previous return (or the start), over
+    /// whole steps (the step of each crossing counts on both sides)
+    pub high: SVector<f64, N>,
+    /// the smallest value of each component over the same steps
+    pub low: SVector<f64, N>,
+}
+
+/// Integrates $\dot x = f(x; p)$ from $x_0$ for at most `t_end`, calling `on_return` at every
+/// crossing of the section $s(x) = 0$ in the direction of increasing $s$ (located by Brent's
+/// method on the step's continuous extension), with the extremes of each component since the
+/// previous crossing; `on_return` ends the run by returning `Break`. A numerical failure (step
+/// limit, vanishing step, NaN) ends the run with its [`StopReason`] in the returned solution,
+/// as in [`integrate_partial`]: a motion that blows up is an outcome. Invalid arguments are
+/// errors.
+pub fn integrate_sections<const N: usize, F: VectorField<N>>(
+    f: &F,
+    p: f64,
+    x0: &SVector<f64, N>,
+    t_end: f64,
+    section: &dyn Fn(&SVector<f64, N>) -> f64,
+    opts: &OdeOptions,
+    on_return: &mut dyn FnMut(&Return<N>) -> ControlFlow<()>,
+) -> Result<Solution<N>, OdeError> {
+    let mut s_prev = section(x0);
+    let (mut high, mut low) = (*x0, *x0);
+    let run = run(f, p, x0, t_end, opts, |_, start, trial| {
+        let dense = Dense::new(start, trial);
+        let (h, l) = dense.extremes();
+        high = high.sup(&h);
+        low = low.inf(&l);
+        let (s0, s1) = (s_prev, section(&trial.end.x));
+        s_prev = s1;
+        if !(s0 < 0.0 && s1 >= 0.0) {
+            return ControlFlow::Continue(());
+        }
+        let t1 = trial.end.t;
+        let tc = brent(
+            &mut |t| section(&dense.eval(t)),
+            start.t,
+            t1,
+            s0,
+            s1,
+            4.0 * f64::EPSILON * t1.abs(),
+        );
+        let r = Return {
+            t: tc,
+            x: dense.eval(tc),
+            high,
+            low,
+        };
+        (high, low) = (h, l);
+        match on_return(&r) {
+            ControlFlow::Continue(()) => ControlFlow::Continue(()),
+            ControlFlow::Break(()) => ControlFlow::Break(trial.end),
+        }
+    })?;
+    Ok(run.sol)
+}

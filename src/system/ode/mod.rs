@@ -45,8 +45,8 @@ mod tests_events;
 use nalgebra::{SMatrix, SVector};
 
 pub use driver::{
-    integrate, integrate_observed, integrate_partial, integrate_to_section, integrate_with_extremes,
-    integrate_with_peaks,
+    integrate, integrate_observed, integrate_partial, integrate_sections, integrate_to_section,
+    integrate_with_extremes, integrate_with_peaks, Return,
 };
 
 /// An autonomous vector field $\dot x = f(x; p)$ with its exact Jacobian.

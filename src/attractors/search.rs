@@ -1,0 +1,796 @@
+//! The grid of speeds and initial states, the basin fractions, the descents and the bisection.
+//!
+//! At each speed of the grid (highest first) every initial state is simulated (in parallel) and
+//! classified ([`super::classify`]). Motions of one kind whose leading-wheelset amplitudes (on
+//! either side: mirror images are one attractor) and periods agree within 1 % are one attractor.
+//! An attractor not met before is followed down in speed from its own state (quasi-static
+//! descent: each speed starts from the state the motion had at the speed above, so there is no
+//! lag as in the ramp) through every lower grid speed and steps of at most `descent_step` of the
+//! speed, until the motion is no longer the same attractor (it decays, jumps to another one,
+//! leaves the geometry's range or stops settling); the speed where it dies is then bracketed by
+//! bisection, each trial again started from the lowest state where it lived, to `bracket`.
+
+use nalgebra::SVector;
+use rayon::prelude::*;
+
+use super::classify::{classify, Settle};
+use super::{Attractor, AttractorReport, BodyAmplitude, Motion, MotionKind, Outcome, SpeedRow};
+use crate::bifurcation::BifurcationReport;
+use crate::model::{BodyKind, Vehicle};
+
+/// Options of the search (study section `[attractors]`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct AttractorOptions {
+    /// the speeds of the grid (m/s), from the lowest to the highest
+    pub speed_range: (f64, f64),
+    /// grid speeds (≥ 1; default 6)
+    pub speeds: usize,
+    /// the amplitudes of the initial kicks (m); default 30, 60 and 90 % of the contact
+    /// geometry's range (of 10 mm where it has none)
+    pub amplitudes: Vec<f64>,
+    /// the longest simulation of one motion (s); default 30 s
+    pub settle: f64,
+    /// the width to which the speed where an attractor dies is bracketed (m/s); default 0.1
+    pub bracket: f64,
+    /// the largest step of a descent, relative to the speed; default 0.05
+    pub descent_step: f64,
+    /// the lowest speed a descent goes to (m/s); default the bottom of the bifurcation range
+    pub lowest: f64,
+    /// equilibrium threshold on every body's lateral excursion (m); default 0.01 mm
+    pub threshold: f64,
+    /// integrator relative tolerance of the simulations; default 1e-8
+    pub rtol: f64,
+    /// largest period (in returns to the section) recognised as a cycle; default 8
+    pub max_period: usize,
+    /// the contact geometry's half-width (m); `None`: no limit (the cone, or extrapolation)
+    pub geometry_limit: Option<f64>,
+    /// simulate the initial states of one speed on rayon threads (default true)
+    pub parallel: bool,
+}
+
+impl AttractorOptions {
+    /// Defaults around the Hopf speed `v_h` (m/s) of the study's law, when there is one in the
+    /// bifurcation range `range`: the grid from 1.1 V_H down to 0.5 V_H (within the range),
+    /// else the whole range.
+    pub fn new(range: (f64, f64), v_h: Option<f64>, geometry_limit: Option<f64>) -> Self {
+        let speed_range = match v_h {
+            Some(v) => ((0.5 * v).max(range.0), (1.1 * v).min(range.1)),
+            None => range,
+        };
+        let reference = geometry_limit.unwrap_or(0.010);
+        AttractorOptions {
+            speed_range,
+            speeds: 6,
+            amplitudes: vec![0.3 * reference, 0.6 * reference, 0.9 * reference],
+            settle: 30.0,
+            bracket: 0.1,
+            descent_step: 0.05,
+            lowest: range.0,
+            threshold: 1e-5,
+            rtol: 1e-8,
+            max_period: 8,
+            geometry_limit,
+            parallel: true,
+        }
+    }
+
+    /// The grid, highest speed first (one speed: the top of the range).
+    pub fn grid(&self) -> Vec<f64> {
+        let (lo, hi) = self.speed_range;
+        let n = self.speeds.max(1);
+        if n == 1 {
+            return vec![hi];
+        }
+        (0..n)
+            .map(|i| hi - (hi - lo) * i as f64 / (n - 1) as f64)
+            .collect()
+    }
+}
+
+/// What an initial state is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StartKind {
+    /// one body's lateral coordinate displaced
+    Lateral,
+    /// one body's yaw displaced (its ends by the amplitude)
+    Yaw,
+    /// every wheelset displaced the same way
+    WheelsetsInPhase,
+    /// the wheelsets displaced in turn one way and the other
+    WheelsetsInAntiphase,
+    /// the wheelsets of the front bogie one way, of the rear bogie the other
+    BogiesInAntiphase,
+    /// a stable cycle of the continuation
+    ContinuedCycle,
+}
+
+impl StartKind {
+    /// As written in outputs.
+    pub fn name(self) -> &'static str {
+        match self {
+            StartKind::Lateral => "lateral kick",
+            StartKind::Yaw => "yaw kick",
+            StartKind::WheelsetsInPhase => "wheelsets in phase",
+            StartKind::WheelsetsInAntiphase => "wheelsets in antiphase",
+            StartKind::BogiesInAntiphase => "bogies in antiphase",
+            StartKind::ContinuedCycle => "continued stable cycle",
+        }
+    }
+}
+
+/// The kicks: every body's y and ψ (the ends moved by the amplitude), the wheelsets in phase
+/// and in antiphase, the bogies in antiphase, at every amplitude; positive only (a negative kick
+/// is the mirror image of a positive one, and so are the attractors it reaches).
+fn kicks(model: &Vehicle, amplitudes: &[f64]) -> Vec<(StartKind, String, Vec<f64>)> {
+    let n = model.states();
+    let (a, lb) = model.layout_arms();
+    let l0 = model.contact.params.half_contact_distance;
+    let wheelsets = model.wheelset_dofs().to_vec();
+    let mut out = Vec::new();
+    for &amp in amplitudes {
+        let mm = amp * 1e3;
+        for b in &model.bodies {
+            let mut x = vec![0.0; n];
+            x[b.dof] = amp;
+            out.push((
+                StartKind::Lateral,
+                format!("y of {} = {mm:.2} mm", b.name),
+                x,
+            ));
+            let arm = match b.kind {
+                BodyKind::Wheelset => l0,
+                BodyKind::Frame => a,
+                BodyKind::CarBody => lb,
+            };
+            if arm > 0.0 {
+                let mut x = vec![0.0; n];
+                x[b.dof + 1] = amp / arm;
+                out.push((
+                    StartKind::Yaw,
+                    format!(
+                        "yaw of {} = {:.3} mrad (ends {mm:.2} mm)",
+                        b.name,
+                        amp / arm * 1e3
+                    ),
+                    x,
+                ));
+            }
+        }
+        if wheelsets.len() >= 2 {
+            let mut x = vec![0.0; n];
+            for &d in &wheelsets {
+                x[d] = amp;
+            }
+            out.push((
+                StartKind::WheelsetsInPhase,
+                format!("every wheelset y = {mm:.2} mm"),
+                x,
+            ));
+            let mut x = vec![0.0; n];
+            for (k, &d) in wheelsets.iter().enumerate() {
+                x[d] = if k % 2 == 0 { amp } else { -amp };
+            }
+            out.push((
+                StartKind::WheelsetsInAntiphase,
+                format!("wheelsets y = ±{mm:.2} mm in turn"),
+                x,
+            ));
+        }
+        if wheelsets.len() >= 4 {
+            let mut x = vec![0.0; n];
+            let half = wheelsets.len() / 2;
+            for (k, &d) in wheelsets.iter().enumerate() {
+                x[d] = if k < half { amp } else { -amp };
+            }
+            out.push((
+                StartKind::BogiesInAntiphase,
+                format!("front bogie's wheelsets +{mm:.2} mm, rear -{mm:.2} mm"),
+                x,
+            ));
+        }
+    }
+    out
+}
+
+/// The continuation's stable cycles at `speed`: on every branch, each pair of consecutive
+/// stable cycles on either side of it gives a start, the nearer cycle's state (the search's
+/// classification then solves the cycle at `speed` exactly).
+fn continued_starts(
+    r: Option<&BifurcationReport>,
+    speed: f64,
+) -> Vec<(StartKind, String, Vec<f64>)> {
+    let Some(r) = r else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for pair in r.cycles.windows(2) {
+        let (a, b) = (&pair[0], &pair[1]);
+        if a.branch != b.branch || !(a.stable && b.stable) {
+            continue;
+        }
+        if (a.speed_m_s - speed) * (b.speed_m_s - speed) > 0.0 {
+            continue;
+        }
+        let c = if (a.speed_m_s - speed).abs() <= (b.speed_m_s - speed).abs() {
+            a
+        } else {
+            b
+        };
+        let kind = r
+            .branches
+            .get(c.branch)
+            .map_or("symmetric".to_string(), |k| k.kind.name());
+        out.push((
+            StartKind::ContinuedCycle,
+            format!(
+                "stable {kind} cycle of branch {} at {:.2} m/s ({:.2} mm)",
+                c.branch,
+                c.speed_m_s,
+                c.amplitude_y_m * 1e3
+            ),
+            c.x0.clone(),
+        ));
+    }
+    out
+}
+
+/// The lowest cycle of every stable stretch of every branch (speed, state, description): the
+/// descents that check each of the continuation's lowest stable motions by simulation.
+fn stretch_ends(r: Option<&BifurcationReport>) -> Vec<(f64, Vec<f64>, String)> {
+    let Some(r) = r else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < r.cycles.len() {
+        let c = &r.cycles[k];
+        if !c.stable {
+            k += 1;
+            continue;
+        }
+        let mut end = k;
+        while end + 1 < r.cycles.len()
+            && r.cycles[end + 1].stable
+            && r.cycles[end + 1].branch == c.branch
+        {
+            end += 1;
+        }
+        // the lowest cycle that is clearly stable (next to a fold the multiplier is 1 and the
+        // cycle neither attracts nor repels within a simulation); the descent from it finds the
+        // fold by bisection
+        let stretch = &r.cycles[k..=end];
+        let clear = stretch
+            .iter()
+            .filter(|c| c.max_multiplier_abs < 0.99)
+            .min_by(|x, y| x.speed_m_s.total_cmp(&y.speed_m_s));
+        let low = clear.or_else(|| {
+            stretch
+                .iter()
+                .min_by(|x, y| x.max_multiplier_abs.total_cmp(&y.max_multiplier_abs))
+        });
+        if let Some(low) = low {
+            let kind = r
+                .branches
+                .get(low.branch)
+                .map_or("symmetric".to_string(), |b| b.kind.name());
+            out.push((
+                low.speed_m_s,
+                low.x0.clone(),
+                format!(
+                    "the lowest stable {kind} cycle of a stretch of branch {} ({:.2} m/s, {:.2} mm)",
+                    low.branch,
+                    low.speed_m_s,
+                    low.amplitude_y_m * 1e3
+                ),
+            ));
+        }
+        k = end + 1;
+    }
+    out
+}
+
+/// Whether two motions are the same attractor: the same kind, the leading wheelset's sides
+/// within `tol` (in either order: the mirror image is the same attractor) and periods within
+/// `tol`.
+fn same(a: &Motion, b: &Motion, tol: f64) -> bool {
+    if a.kind != b.kind || !a.kind.is_hunting() {
+        return false;
+    }
+    let close = |x: f64, y: f64| (x - y).abs() <= tol * x.abs().max(y.abs()).max(1e-6);
+    let sides = |m: &Motion| {
+        m.amplitudes
+            .first()
+            .map_or((0.0, 0.0), |a: &BodyAmplitude| (a.y_right_m, a.y_left_m))
+    };
+    let (sa, sb) = (sides(a), sides(b));
+    let amp = (close(sa.0, sb.0) && close(sa.1, sb.1)) || (close(sa.0, sb.1) && close(sa.1, sb.0));
+    let period = match (a.period_s, b.period_s) {
+        (Some(x), Some(y)) => close(x, y),
+        (None, None) => true,
+        _ => false,
+    };
+    amp && period
+}
+
+/// What the search shares with its workers.
+struct Ctx<'a> {
+    model: &'a Vehicle,
+    opts: &'a AttractorOptions,
+    settle: Settle,
+    progress: Option<&'a (dyn Fn(&str) + Sync)>,
+    cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
+    simulations: std::sync::atomic::AtomicUsize,
+}
+
+impl Ctx<'_> {
+    fn say(&self, text: &str) {
+        if let Some(p) = self.progress {
+            p(text);
+        }
+    }
+
+    fn cancelled(&self) -> bool {
+        self.cancel.is_some_and(|c| c())
+    }
+
+    /// Whether `m` (a speed below `here`, started from its state) is still the attractor of
+    /// `here`: the same kind, and for a cycle the one reached from `here`'s cycle by four
+    /// Newton steps in speed (natural-parameter continuation: the cycle of the same branch, even
+    /// where its amplitude changes fast, as near a Hopf point), stable, with `m`'s period;
+    /// for a torus or chaos, amplitudes within a fifth.
+    fn continues<const N: usize>(&self, here: &Motion, m: &Motion) -> bool {
+        if m.kind != here.kind || !m.kind.is_hunting() {
+            return false;
+        }
+        let (Some(t0), Some(t1)) = (here.period_s, m.period_s) else {
+            return same(m, here, 0.2);
+        };
+        if here.state.len() != N {
+            return false;
+        }
+        let symmetric = here.kind == MotionKind::SymmetricCycle;
+        // four Newton steps from here's cycle to m's speed, each moving the start by less than
+        // 30 % of its size: the cycle of the same branch (past a fold there is none nearby, and
+        // Newton from far would land on another cycle)
+        let mut x = nalgebra::SVector::<f64, N>::from_fn(|i, _| here.state[i]);
+        let mut period = t0;
+        let mut last = None;
+        for j in 1..=4 {
+            let v = here.speed_m_s + (m.speed_m_s - here.speed_m_s) * j as f64 / 4.0;
+            let x0: [f64; N] = std::array::from_fn(|i| x[i]);
+            let Ok((orbit, floquet, _)) = crate::bifurcation::solve_cycle::<N>(
+                self.model,
+                v,
+                x0,
+                period,
+                self.settle.cycle_rtol,
+                symmetric,
+            ) else {
+                return false;
+            };
+            if (orbit.x0 - x).norm() > 0.3 * x.norm().max(1e-12) {
+                return false;
+            }
+            (x, period) = (orbit.x0, orbit.period);
+            last = Some(floquet.stable());
+        }
+        last == Some(true) && (period - t1).abs() <= 1e-6 * t1.abs()
+    }
+
+    fn classify<const N: usize>(&self, speed: f64, x: &[f64]) -> Motion {
+        self.simulations
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        if x.len() != N {
+            let mut m = Motion::simple(MotionKind::Diverged, speed, 0.0);
+            m.note = format!("a start of {} values for {N} states", x.len());
+            return m;
+        }
+        classify::<N>(
+            self.model,
+            speed,
+            &SVector::from_fn(|i, _| x[i]),
+            &self.settle,
+        )
+    }
+}
+
+/// The descent of one attractor from `start` (its motion at the speed where it was found):
+/// every grid speed below, with steps of at most `descent_step` of the speed, then the
+/// bisection of the death speed. Returns the path, the bracket and the fate.
+fn descend<const N: usize>(
+    ctx: &Ctx<'_>,
+    start: &Motion,
+    grid: &[f64],
+) -> (Vec<Motion>, Option<(f64, f64)>, String, Option<Motion>) {
+    let opts = ctx.opts;
+    let mut path = vec![start.clone()];
+    let mut targets: Vec<f64> = grid
+        .iter()
+        .copied()
+        .filter(|&v| v < start.speed_m_s - 1e-9 && v >= opts.lowest)
+        .collect();
+    targets.push(opts.lowest);
+    let mut dead: Option<(f64, Motion)> = None;
+    'targets: for target in targets {
+        loop {
+            let Some(here) = path.last().cloned() else {
+                break 'targets;
+            };
+            if here.speed_m_s <= target + 1e-9 || ctx.cancelled() {
+                break;
+            }
+            // a step after which the motion is not the same attractor is halved, down to the
+            // bracket, before the attractor counts as dead there (the amplitude of a branch
+            // varies like a square root near a Hopf point or a fold)
+            let mut step = (opts.descent_step * here.speed_m_s).max(opts.bracket);
+            let (v, m, kept) = loop {
+                let v = (here.speed_m_s - step).max(target);
+                let m = ctx.classify::<N>(v, &here.state);
+                let kept = ctx.continues::<N>(&here, &m);
+                if kept || step <= opts.bracket {
+                    break (v, m, kept);
+                }
+                step *= 0.5;
+            };
+            if kept {
+                path.push(m);
+            } else {
+                dead = Some((v, m));
+                break 'targets;
+            }
+        }
+    }
+    let Some((mut lo, mut below)) = dead else {
+        return (
+            path,
+            None,
+            "exists down to the lowest speed searched".into(),
+            None,
+        );
+    };
+    // bisection: each trial from the lowest state where it lived
+    while let Some(alive) = path.last().cloned() {
+        if alive.speed_m_s - lo <= opts.bracket || ctx.cancelled() {
+            break;
+        }
+        let mid = 0.5 * (lo + alive.speed_m_s);
+        let m = ctx.classify::<N>(mid, &alive.state);
+        if ctx.continues::<N>(&alive, &m) {
+            path.push(m);
+        } else {
+            (lo, below) = (mid, m);
+        }
+    }
+    let alive = path.last().map_or(start.speed_m_s, |m| m.speed_m_s);
+    let fate = match below.kind {
+        MotionKind::Equilibrium => "decays to the centred motion below".to_string(),
+        k if k.is_hunting() => format!(
+            "jumps to a {} of {:.3} mm below",
+            k.name(),
+            below.amplitude_m() * 1e3
+        ),
+        MotionKind::OutOfRange => format!(
+            "leaves the contact geometry's range below ({:.3} mm)",
+            below.excursion_m * 1e3
+        ),
+        k => format!("{} below ({})", k.name(), below.note),
+    };
+    (path, Some((lo, alive)), fate, Some(below))
+}
+
+/// The continuation's branch whose cycle equals the motion within 1 % in amplitude (either
+/// side) and period, interpolated between the branch's cycles on either side of its speed.
+fn match_branch(r: Option<&BifurcationReport>, m: &Motion) -> Option<(usize, f64, f64)> {
+    let r = r?;
+    let period = m.period_s?;
+    let (right, left) = m.amplitudes.first().map(|a| (a.y_right_m, a.y_left_m))?;
+    let v = m.speed_m_s;
+    let mut best: Option<(usize, f64, f64)> = None;
+    for pair in r.cycles.windows(2) {
+        let (a, b) = (&pair[0], &pair[1]);
+        if a.branch != b.branch || (a.speed_m_s - v) * (b.speed_m_s - v) > 0.0 {
+            continue;
+        }
+        let span = b.speed_m_s - a.speed_m_s;
+        let t = if span.abs() > 0.0 {
+            (v - a.speed_m_s) / span
+        } else {
+            0.0
+        };
+        let lerp = |x: f64, y: f64| x + t * (y - x);
+        let ar = lerp(a.amplitude_sides_y_m.0, b.amplitude_sides_y_m.0);
+        let al = lerp(a.amplitude_sides_y_m.1, b.amplitude_sides_y_m.1);
+        let ap = lerp(a.period_s, b.period_s);
+        let rel = |x: f64, y: f64| (x - y).abs() / y.abs().max(1e-9);
+        let da = (rel(right, ar).max(rel(left, al))).min(rel(right, al).max(rel(left, ar)));
+        let dp = rel(period, ap);
+        if da < 0.01 && dp < 0.01 && best.is_none_or(|x| da + dp < x.1 + x.2) {
+            best = Some((a.branch, da, dp));
+        }
+    }
+    best
+}
+
+/// The attractor a hunting motion is: one already followed whose path passes its speed with
+/// the same motion, or a new one (its id pushed onto `fresh`).
+fn identify(
+    attractors: &mut Vec<Attractor>,
+    fresh: &mut Vec<usize>,
+    m: &Motion,
+    continued: Option<&BifurcationReport>,
+) -> usize {
+    let v = m.speed_m_s;
+    let known = attractors.iter().position(|a| {
+        a.path
+            .iter()
+            .any(|p| (p.speed_m_s - v).abs() < 1e-9 && same(p, m, 0.01))
+    });
+    if let Some(k) = known {
+        return k;
+    }
+    let id = attractors.len();
+    attractors.push(Attractor {
+        id,
+        kind: m.kind,
+        found_at_m_s: v,
+        path: vec![m.clone()],
+        dies_m_s: None,
+        fate: String::new(),
+        branch: match_branch(continued, m),
+    });
+    fresh.push(id);
+    id
+}
+
+/// Follows the attractors `fresh` down from where they were found (in parallel).
+fn follow<const N: usize>(
+    ctx: &Ctx<'_>,
+    attractors: &mut [Attractor],
+    fresh: &[usize],
+    grid: &[f64],
+) {
+    let work = |&id: &usize| {
+        let a = &attractors[id];
+        ctx.say(&format!(
+            "  following attractor {id} ({}, {:.3} mm) down from {:.2} m/s",
+            a.kind.name(),
+            a.path[0].amplitude_m() * 1e3,
+            a.found_at_m_s
+        ));
+        (id, descend::<N>(ctx, &a.path[0], grid))
+    };
+    let followed: Vec<_> = if ctx.opts.parallel {
+        fresh.par_iter().map(work).collect()
+    } else {
+        fresh.iter().map(work).collect()
+    };
+    for (id, (path, dies, fate, _below)) in followed {
+        if let Some(a) = attractors.get_mut(id) {
+            a.path = path;
+            a.dies_m_s = dies;
+            a.fate = fate;
+        }
+    }
+}
+
+/// What the initial states of one speed ended on, with the basin fractions.
+fn outcomes(motions: &[Motion], ids: &[Option<usize>]) -> Vec<Outcome> {
+    let n = motions.len().max(1);
+    let mut out: Vec<Outcome> = Vec::new();
+    for (m, id) in motions.iter().zip(ids) {
+        let key = |o: &Outcome| match (id, o.attractor) {
+            (Some(i), Some(j)) => *i == j,
+            (None, None) => o.kind == m.kind,
+            _ => false,
+        };
+        match out.iter_mut().find(|o| key(o)) {
+            Some(o) => o.count += 1,
+            None => out.push(Outcome {
+                attractor: *id,
+                kind: m.kind,
+                count: 1,
+                fraction: 0.0,
+                amplitude_m: if m.kind.is_hunting() {
+                    m.amplitude_m()
+                } else {
+                    0.0
+                },
+            }),
+        }
+    }
+    for o in &mut out {
+        o.fraction = o.count as f64 / n as f64;
+    }
+    out
+}
+
+/// One note per kind of motion that is no verdict on an attractor (out of the geometry's
+/// range, unsettled, diverged) at speed `v`, with the starts that ended so.
+fn non_attractors(
+    v: f64,
+    motions: &[Motion],
+    starts: &[(StartKind, String, Vec<f64>)],
+    limit: Option<f64>,
+) -> Vec<String> {
+    let mut out = Vec::new();
+    for kind in [
+        MotionKind::OutOfRange,
+        MotionKind::Unsettled,
+        MotionKind::Diverged,
+    ] {
+        let which: Vec<&str> = motions
+            .iter()
+            .zip(starts)
+            .filter(|(m, _)| m.kind == kind)
+            .map(|(_, s)| s.1.as_str())
+            .collect();
+        if which.is_empty() {
+            continue;
+        }
+        let what = match (kind, limit) {
+            (MotionKind::OutOfRange, Some(g)) => format!(
+                "left the contact geometry's range (±{:.3} mm): no attractor is derived from extrapolated geometry (contact.extrapolate = \"linear\" follows them)",
+                g * 1e3
+            ),
+            (MotionKind::Unsettled, _) => "had not settled at the time limit (attractors.settle)".into(),
+            _ => format!("ended {}", kind.name()),
+        };
+        let listed = which.len().min(4);
+        out.push(format!(
+            "at {v:.2} m/s {} of {} initial states {what} ({}{})",
+            which.len(),
+            motions.len(),
+            which[..listed].join("; "),
+            if which.len() > listed { "; …" } else { "" }
+        ));
+    }
+    out
+}
+
+/// Runs the search; `progress` gets a line of text per speed and per descent, `cancel` is asked
+/// between simulations' batches.
+pub fn search(
+    study: &str,
+    model: &Vehicle,
+    opts: &AttractorOptions,
+    continued: Option<&BifurcationReport>,
+) -> Result<AttractorReport, String> {
+    search_with_hooks(study, model, opts, continued, None, None)
+}
+
+/// [`search`] with a progress report and a cancellation hook.
+pub fn search_with_hooks(
+    study: &str,
+    model: &Vehicle,
+    opts: &AttractorOptions,
+    continued: Option<&BifurcationReport>,
+    progress: Option<&(dyn Fn(&str) + Sync)>,
+    cancel: Option<&(dyn Fn() -> bool + Sync)>,
+) -> Result<AttractorReport, String> {
+    crate::with_states!(model.states(), N => search_states::<N>(study, model, opts, continued, progress, cancel),
+        _ => Err(format!("no analysis is compiled for {} states", model.states())))
+}
+
+fn search_states<const N: usize>(
+    study: &str,
+    model: &Vehicle,
+    opts: &AttractorOptions,
+    continued: Option<&BifurcationReport>,
+    progress: Option<&(dyn Fn(&str) + Sync)>,
+    cancel: Option<&(dyn Fn() -> bool + Sync)>,
+) -> Result<AttractorReport, String> {
+    let ctx = Ctx {
+        model,
+        opts,
+        settle: Settle {
+            max_time: opts.settle,
+            threshold: opts.threshold,
+            max_period: opts.max_period,
+            geometry_limit: opts.geometry_limit,
+            rtol: opts.rtol,
+            cycle_rtol: 1e-10,
+        },
+        progress,
+        cancel,
+        simulations: std::sync::atomic::AtomicUsize::new(0),
+    };
+    let grid = opts.grid();
+    let kicked = kicks(model, &opts.amplitudes);
+    let mut starts_listed: Vec<(StartKind, String)> =
+        kicked.iter().map(|k| (k.0, k.1.clone())).collect();
+    let mut attractors: Vec<Attractor> = Vec::new();
+    let mut rows = Vec::new();
+    let mut notes = Vec::new();
+    for &v in &grid {
+        if ctx.cancelled() {
+            notes.push("cancelled".into());
+            break;
+        }
+        let mut starts = kicked.clone();
+        for c in continued_starts(continued, v) {
+            if !starts_listed.iter().any(|s| s.1 == c.1) {
+                starts_listed.push((c.0, c.1.clone()));
+            }
+            starts.push(c);
+        }
+        ctx.say(&format!("  {v:.2} m/s: {} initial states", starts.len()));
+        let motions: Vec<Motion> = if opts.parallel {
+            starts
+                .par_iter()
+                .map(|s| ctx.classify::<N>(v, &s.2))
+                .collect()
+        } else {
+            starts.iter().map(|s| ctx.classify::<N>(v, &s.2)).collect()
+        };
+        // each motion: a known attractor (its path passes this speed), a new one, or none
+        let mut ids: Vec<Option<usize>> = Vec::with_capacity(motions.len());
+        let mut fresh: Vec<usize> = Vec::new();
+        for m in &motions {
+            if !m.kind.is_hunting() {
+                ids.push(None);
+                continue;
+            }
+            let id = identify(&mut attractors, &mut fresh, m, continued);
+            ids.push(Some(id));
+        }
+        notes.extend(non_attractors(v, &motions, &starts, opts.geometry_limit));
+        follow::<N>(&ctx, &mut attractors, &fresh, &grid);
+        rows.push(SpeedRow {
+            speed_m_s: v,
+            starts: motions.len(),
+            outcomes: outcomes(&motions, &ids),
+        });
+    }
+    // the continuation's lowest stable cycles, each checked by a descent of its own unless an
+    // attractor already followed passes there
+    let mut fresh = Vec::new();
+    let ends: Vec<(f64, Vec<f64>, String)> = stretch_ends(continued)
+        .into_iter()
+        .filter(|e| e.0 >= opts.lowest)
+        .collect();
+    let checked: Vec<Motion> = if opts.parallel {
+        ends.par_iter()
+            .map(|e| ctx.classify::<N>(e.0, &e.1))
+            .collect()
+    } else {
+        ends.iter().map(|e| ctx.classify::<N>(e.0, &e.1)).collect()
+    };
+    for (m, e) in checked.iter().zip(&ends) {
+        if !m.kind.is_hunting() {
+            notes.push(format!(
+                "{} is not an attractor by simulation: {}{}",
+                e.2,
+                m.kind.name(),
+                if m.note.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({})", m.note)
+                }
+            ));
+            continue;
+        }
+        let covered = attractors.iter().any(|a| {
+            a.dies_m_s.is_some_and(|d| d.1 <= m.speed_m_s) && a.path.iter().any(|p| same(p, m, 0.2))
+        });
+        if !covered {
+            identify(&mut attractors, &mut fresh, m, continued);
+        }
+    }
+    follow::<N>(&ctx, &mut attractors, &fresh, &grid);
+    let vnl = attractors
+        .iter()
+        .filter(|a| a.kind.is_hunting())
+        .min_by(|a, b| a.lowest_m_s().total_cmp(&b.lowest_m_s()))
+        .map(|a| (a.lowest_m_s(), a.dies_m_s, a.id));
+    Ok(AttractorReport {
+        study: study.to_string(),
+        body_names: model.bodies.iter().map(|b| b.name.clone()).collect(),
+        options: opts.clone(),
+        starts: starts_listed,
+        speeds: rows,
+        attractors,
+        nonlinear_critical_speed: vnl,
+        notes,
+        simulations: ctx.simulations.load(std::sync::atomic::Ordering::Relaxed),
+    })
+}
