@@ -200,7 +200,7 @@ impl crate::system::ode::VectorField<2> for HopfNormalForm {
 }
 
 /// A bogie frame in the range of the DTU Cooperrider vehicle
-/// (`../shared/reference/dytsi_cooperrider_vehicle.md`: frame 2918.9 kg, 6780 kg m²,
+/// (DTU DYTSI, `docs/data/dytsi_cooperrider_vehicle.md`: frame 2918.9 kg, 6780 kg m²,
 /// half wheelbase 1.074 m), for tests and benches.
 pub const REFERENCE_FRAME: crate::model::FrameParams = crate::model::FrameParams {
     mass: 2918.9,

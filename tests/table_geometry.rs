@@ -206,7 +206,7 @@ fn rows(text: &str) -> Vec<Vec<f64>> {
 }
 
 /// `studies/tables/dtu-rsgeo-1o40.csv` is the DTU DYTSI table (source: DYTSI
-/// input/RSGEO/1o40/RSGEO.dat, subsampled copy in ../shared/reference or tests/data) converted
+/// input/RSGEO/1o40/RSGEO.dat, LGPL; subsampled copy in tests/data) converted
 /// as its header says: copied columns unchanged, roll from the contact heights, δ = δ_axle + φ.
 #[test]
 fn the_committed_dtu_table_is_the_documented_conversion() {

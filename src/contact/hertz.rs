@@ -352,7 +352,7 @@ mod tests {
         Ok(())
     }
 
-    /// Against `shared/reference/hertz_mn.csv` (m, n, e from K(e), E(e), computed with scipy).
+    /// Against `tests/data/hertz_mn.csv` (m, n, e from K(e), E(e), computed with scipy).
     /// Conventions: the file writes the gap as A' x² + B' y² with A', B' HALF the summed
     /// curvatures, so A' = A/2, B' = B/2 here; θ = arccos((B−A)/(A+B)) is the same in both.
     /// Its semi-axes are m, n · L with L = [3N/(4E*(A'+B'))]^(1/3), 1/E* = 2(1−ν²)/E.

@@ -1,6 +1,6 @@
 //! Kalker's linear creep coefficients (MODEL §5), generic over [`Scalar`].
 //!
-//! `kalker_coefficients.csv` (a verbatim copy of `shared/reference/`, embedded at compile
+//! `kalker_coefficients.csv` (a verbatim copy of `tests/data/`, source in its header, embedded at compile
 //! time) holds Kalker's dimensionless C11, C22, C23, C33 for ν = 0, 0.25, 0.5 against
 //! g = a/b (a ≤ b) and g = b/a (a ≥ b); a is the semi-axis in the rolling direction. (Its
 //! C33 at ν = 0 is marked as recalled, not verified; steel's ν ≈ 0.3 does not use it.)
@@ -304,19 +304,17 @@ mod tests {
     }
 
     /// The embedded table parses, and is a verbatim copy of
-    /// `shared/reference/kalker_coefficients.csv` (Kalker 1967/1990 via CONTACT's m_hertz.f90).
+    /// `tests/data/kalker_coefficients.csv` (Kalker 1967/1990 via CONTACT's m_hertz.f90, Apache-2.0).
     #[test]
     fn embedded_table_parses_and_is_the_shared_file() -> TestResult {
         let tab = table()?;
         assert_eq!(tab.t.len(), 19);
         assert_eq!(tab.range, (0.1, 10.0));
-        // Provenance: the embedded copy is byte-identical to the project's shared file. A
-        // clone on its own has no shared folder; then only the parse is checked, and it says so.
+        // Provenance: the embedded copy is byte-identical to the cited reference copy in
+        // tests/data/ (a packaged crate has no tests/data; then only the parse is checked).
         match crate::testutil::shared_reference("kalker_coefficients.csv") {
             Some(path) => assert_eq!(std::fs::read_to_string(path)?, TABLE_CSV),
-            None => eprintln!(
-                "../shared/reference/kalker_coefficients.csv absent: provenance not checked"
-            ),
+            None => eprintln!("tests/data/kalker_coefficients.csv absent: provenance not checked"),
         }
         Ok(())
     }
