@@ -1,5 +1,5 @@
 //! The nonlinear analysis of a study: the branch of hunting limit cycles from the Hopf point
-//! of the study's creep law, its stability, folds and the nonlinear critical speed (MODEL §9).
+//! of the study's creep law, its stability, folds and the nonlinear critical speed (docs/model.md §9).
 //!
 //! This is the driver that joins the wheelset to the generic continuation: it finds the Hopf
 //! point and its eigenvector, chooses scales (1 mm of lateral amplitude ≈ 1 m/s of speed),
@@ -527,7 +527,7 @@ fn fill<const N: usize>(report: &mut BifurcationReport, branch: &Branch<N>, mode
     report.nonlinear_critical_speed = nonlinear_critical_speed(report);
 }
 
-/// MODEL §9: the lowest speed at which a stable cycle exists: the supercritical Hopf speed, a
+/// docs/model.md §9: the lowest speed at which a stable cycle exists: the supercritical Hopf speed, a
 /// located fold next to a stable stretch, or else the lowest stable computed cycle, whichever is
 /// lowest. A supercritical branch can fold back below its Hopf point further on (flange contact
 /// of real profiles does this): its stable cycles there set V_NL, not the Hopf speed.
@@ -587,7 +587,7 @@ mod tests {
 
     /// A supercritical branch (stable from V_H = 100) that turns back at 110, comes down to a
     /// fold at 80 and is stable again above it: the lowest stable cycle is near 80, so V_NL is the
-    /// fold at 80 (MODEL §9), not the Hopf speed. Without the fold-back V_NL is V_H.
+    /// fold at 80 (docs/model.md §9), not the Hopf speed. Without the fold-back V_NL is V_H.
     #[test]
     fn nonlinear_critical_speed_is_the_lowest_stable_cycle() {
         let hopf = Crossing {

@@ -104,7 +104,7 @@ fn seed_section(s: &mut String) {
     let none = no_yaw.replace("lateral_damping = \"8 N s/mm\"", "lateral_damping = 0");
     let fmt = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:.2} m/s"));
     let wide = (1.0, 3000.0);
-    let _ = writeln!(s, "\nCritical speeds. The paper reports 40 m/s (linear, Kalker) and 35 m/s (Shen), defined by 30 s simulations from y(0) = 5 mm; its equations of motion are misprinted (MODEL §10). The model with the paper's parameters:\n");
+    let _ = writeln!(s, "\nCritical speeds. The paper reports 40 m/s (linear, Kalker) and 35 m/s (Shen), defined by 30 s simulations from y(0) = 5 mm; its equations of motion are misprinted (docs/model.md §10). The model with the paper's parameters:\n");
     let _ = writeln!(s, "| case | V_L (Kalker) | V_H (Shen) |\n|---|---|---|");
     for (name, text) in [
         ("the seed as stated", seed.to_string()),
