@@ -159,7 +159,7 @@ fn closed_form_section(s: &mut String) {
 
 fn en15302_section(s: &mut String) {
     let _ = writeln!(s, "## 3. EN 15302 equivalent conicity benchmark\n");
-    let _ = writeln!(s, "Reference Δr functions and reference conicities with tolerances: EN 15302 Annexes E and F as transcribed in criogenox/B_ECC (`shared/reference/en15302_*`). critspeed: wavelength of the nonlinear kinematic oscillation (`critspeed conicity`).\n");
+    let _ = writeln!(s, "Reference Δr functions and reference conicities with tolerances: EN 15302 Annexes E and F as transcribed in criogenox/B_ECC (`tests/data/en15302_*`). critspeed: wavelength of the nonlinear kinematic oscillation (`critspeed conicity`).\n");
     let _ = writeln!(s, "| case | amplitudes compared | inside the tolerance | largest difference from the reference |\n|---|---|---|---|");
     let dr = reference("en15302_delta_r_reference.csv");
     let refs = reference("en15302_equivalent_conicity_reference.csv");
