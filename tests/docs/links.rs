@@ -144,6 +144,41 @@ fn links_images_and_anchors_resolve() {
     assert!(bad.is_empty(), "{}", bad.join("\n"));
 }
 
+/// Every page of the guide can be reached from `docs/README.md` by following links.
+#[test]
+fn every_page_is_reachable_from_the_guide_index() {
+    let pages: BTreeMap<String, String> = pages().into_iter().collect();
+    let mut seen = std::collections::BTreeSet::new();
+    let mut todo = vec!["docs/README.md".to_string()];
+    while let Some(page) = todo.pop() {
+        if !seen.insert(page.clone()) {
+            continue;
+        }
+        let Some(text) = pages.get(&page) else {
+            continue;
+        };
+        let folder = Path::new(&page)
+            .parent()
+            .map(PathBuf::from)
+            .unwrap_or_default();
+        for target in targets(text) {
+            let file = target.split('#').next().unwrap_or("");
+            if file.ends_with(".md") && !file.contains("://") {
+                let rel = lexical(&folder.join(file)).display().to_string();
+                todo.push(rel);
+            }
+        }
+    }
+    let unreached: Vec<&String> = pages
+        .keys()
+        .filter(|p| p.starts_with("docs/") && !seen.contains(*p))
+        .collect();
+    assert!(
+        unreached.is_empty(),
+        "not reachable from docs/README.md: {unreached:?}"
+    );
+}
+
 #[test]
 fn the_link_checker_finds_what_it_should() {
     let page = "# Top\n## The ramp method (EN 14363)\n## §1 Frame and state\n## Top\n\
