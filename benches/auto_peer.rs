@@ -1,6 +1,6 @@
 //! Benches of issue 11's goals, each on one and on two rayon threads:
 //! * `cone_branch`: `studies/seed-hunting-cone.toml`, Hopf point and the branch to 8 mm with
-//!   Floquet multipliers (the AUTO-07p peer comparison, docs/performance-auto.md);
+//!   Floquet multipliers (the AUTO-07p peer comparison, docs/performance.md);
 //! * `s1002_diagram`: `studies/s1002-uic60.toml`, the whole diagram (Hopf point, subcritical
 //!   branch, fold, stable branch to 150 m/s);
 //! * `cubic_fold_branch`: `studies/cubic-fold.toml` (subcritical, one fold);

@@ -1,7 +1,7 @@
 //! Benches of the linear analysis on the seed study (embedded) and the seed cone reference.
 //!
 //! * `rhs`: one evaluation of f(x; V) (Shen law, away from the centre), through the vehicle
-//!   assembly (`rhs`) and through MODEL §8 written out for the single wheelset (`rhs_direct`):
+//!   assembly (`rhs`) and through docs/model.md §8 written out for the single wheelset (`rhs_direct`):
 //!   the cost of the assembly on the 4-state path.
 //! * `jacobian`, `jacobian_direct`: the exact Jacobian the same two ways.
 //! * `jacobian_eigen`: the exact Jacobian at the centre plus its eigen-decomposition.

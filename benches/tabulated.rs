@@ -1,4 +1,4 @@
-//! Bench of the tabulated geometry (MODEL §3 method 3): reading and splining the DTU RSGEO
+//! Bench of the tabulated geometry (docs/model.md §3 method 3): reading and splining the DTU RSGEO
 //! table (69 rows, 10 columns), and sampling it with the Hertz patch and the table's Kalker
 //! coefficients onto a 1001-node contact table over ±8 mm.
 

@@ -1,4 +1,4 @@
-//! Benches of vehicles (MODEL §11) on the shipped DTU Cooperrider studies.
+//! Benches of vehicles (docs/model.md §11) on the shipped DTU Cooperrider studies.
 //!
 //! * `vehicle/rhs_{bogie,car}`: one f(x; V) of 12 and 28 states.
 //! * `vehicle/linear_{bogie,car}`: the linear (Kalker) critical-speed solve from the model:

@@ -56,7 +56,7 @@ pub struct BodyMode {
     pub reach: f64,
 }
 
-/// The eigenvector of a crossing pair, body by body (MODEL §11, "Reported for a vehicle").
+/// The eigenvector of a crossing pair, body by body (docs/model.md §11, "Reported for a vehicle").
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModeShape {
     /// each body in state order

@@ -44,7 +44,7 @@
 //! let model = plan.model().unwrap().with_law(CreepLaw::Kalker);
 //! let sys = LinearSystem::<4>::at_centre(&model);
 //! let found = critical_speeds(&sys, CreepLaw::Kalker, &plan.linear).unwrap();
-//! // The seed's dampers keep its wheelset stable far beyond railway speeds (MODEL §10).
+//! // The seed's dampers keep its wheelset stable far beyond railway speeds (docs/model.md §10).
 //! assert!(found.critical().map_or(true, |c| c.speed_m_s > 150.0));
 //! ```
 

@@ -1,8 +1,8 @@
 //! Reference problems with known answers, shared by tests, benches and doctests.
 //!
-//! * [`seed_cone`]: the seed wheelset (MODEL §10) on the closed-form cone, with the seed's
+//! * [`seed_cone`]: the seed wheelset (docs/model.md §10) on the closed-form cone, with the seed's
 //!   creep coefficients, built without a study file.
-//! * [`small_angle_matrices`]: MODEL §8's M, C, K for the cone.
+//! * [`small_angle_matrices`]: docs/model.md §8's M, C, K for the cone.
 //! * [`hurwitz_critical_speed`]: for the cone **without spin, gravity or damping** the
 //!   quartic's Hurwitz condition gives the critical speed in closed form (derived below).
 //!
@@ -24,7 +24,7 @@ use crate::contact::kalker::CreepCoefficients;
 use crate::contact::table::{ContactTable, CreepSource, Elastic, TableError, TableSpec};
 use crate::model::{Suspension, Wheelset, WheelsetParams};
 
-/// The seed's wheelset data (MODEL §10, SI).
+/// The seed's wheelset data (docs/model.md §10, SI).
 pub const SEED_WHEELSET: WheelsetParams = WheelsetParams {
     mass: 1250.0,
     yaw_inertia: 700.0,
@@ -33,7 +33,7 @@ pub const SEED_WHEELSET: WheelsetParams = WheelsetParams {
     rolling_radius: 0.46,
 };
 
-/// The seed's suspension (MODEL §10, SI, per side).
+/// The seed's suspension (docs/model.md §10, SI, per side).
 pub const SEED_SUSPENSION: Suspension = Suspension {
     lateral_stiffness: 3.86e6,
     longitudinal_stiffness: 8.5e5,
@@ -86,12 +86,12 @@ pub fn cone_wheelset(
     })
 }
 
-/// The seed wheelset on the 1:20 cone (MODEL §10 parameters, Kalker creep, spin on).
+/// The seed wheelset on the 1:20 cone (docs/model.md §10 parameters, Kalker creep, spin on).
 pub fn seed_cone(law: CreepLaw) -> Result<Wheelset, TableError> {
     cone_wheelset(SEED_WHEELSET, SEED_SUSPENSION, SEED_CREEP, 0.05, law, true)
 }
 
-/// MODEL §8's small-angle matrices (M, C, K) at speed `v` for the cone of slope `lambda`.
+/// docs/model.md §8's small-angle matrices (M, C, K) at speed `v` for the cone of slope `lambda`.
 pub fn small_angle_matrices(
     w: &Wheelset,
     creep: &CreepCoefficients<f64>,
@@ -202,7 +202,7 @@ impl crate::system::ode::VectorField<2> for HopfNormalForm {
 }
 
 /// A bogie frame in the range of the DTU Cooperrider vehicle
-/// (`../shared/reference/dytsi_cooperrider_vehicle.md`: frame 2918.9 kg, 6780 kg m²,
+/// (DTU DYTSI, `docs/data/dytsi_cooperrider_vehicle.md`: frame 2918.9 kg, 6780 kg m²,
 /// half wheelbase 1.074 m), for tests and benches.
 pub const REFERENCE_FRAME: crate::model::FrameParams = crate::model::FrameParams {
     mass: 2918.9,

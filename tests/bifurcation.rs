@@ -73,7 +73,7 @@ fn supercritical_branch_starts_at_the_creep_law_hopf_point() {
     let r = analyse(&plan.name, &model, &opts).expect("analysis runs");
     let hopf = r.hopf.expect("a Hopf point in range");
     assert_eq!(r.hopf_type, Some(HopfType::Supercritical));
-    // MODEL §9: supercritical, so V_NL = V_H, and it is a located value
+    // docs/model.md §9: supercritical, so V_NL = V_H, and it is a located value
     let (vnl, located) = r.nonlinear_critical_speed.expect("V_NL");
     assert!(located && (vnl - hopf.speed_m_s).abs() < 1e-9 * vnl);
     // the first cycles are small, near V_H, at the Hopf frequency
@@ -81,7 +81,7 @@ fn supercritical_branch_starts_at_the_creep_law_hopf_point() {
     assert!(first.amplitude_y_m < 2e-4);
     assert!((first.speed_m_s - hopf.speed_m_s).abs() < 0.01 * hopf.speed_m_s);
     assert!((1.0 / first.period_s - hopf.frequency_hz).abs() < 1e-3 * hopf.frequency_hz);
-    // the Shen branch is not Kalker's: its Hopf speed differs from V_L (MODEL §5)
+    // the Shen branch is not Kalker's: its Hopf speed differs from V_L (docs/model.md §5)
     let vl = r.kalker_critical_speed_m_s.expect("V_L in range");
     assert!((hopf.speed_m_s - vl).abs() > 1e-3 * vl);
     // amplitude grows with speed along a supercritical branch without flange

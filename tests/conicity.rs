@@ -1,6 +1,6 @@
 //! Equivalent conicity against EN 15302's benchmark (Annex E reference Δr functions, Annex F
-//! tolerances), as transcribed in `../shared/reference/en15302_*` (source in each file's
-//! header; cited copies in tests/data/ for clones without the shared folder).
+//! tolerances), as transcribed by criogenox/B_ECC-Equivalent-Conicity-Calculation (MIT) in
+//! `tests/data/en15302_*` (source in each file's header and in tests/data/README.md).
 
 use critspeed::conicity::DeltaR;
 use std::collections::BTreeMap;

@@ -1,5 +1,5 @@
 //! Linear stability: exact Jacobian, small-angle matrices, closed-form critical speed,
-//! eigen-residuals and the Kalker/Shen relation (MODEL §5, §8, §9).
+//! eigen-residuals and the Kalker/Shen relation (docs/model.md §5, §8, §9).
 
 use approx::assert_relative_eq;
 use critspeed::contact::creep::CreepLaw;
@@ -61,7 +61,7 @@ proptest! {
         check_against_differences(&w, Vector4::new(y, psi, yd, pd), v);
     }
 
-    /// Track symmetry (MODEL §9): f(−x) = −f(x).
+    /// Track symmetry (docs/model.md §9): f(−x) = −f(x).
     #[test]
     fn right_hand_side_is_odd(
         y in -8e-3..8e-3f64, psi in -4e-3..4e-3f64,
@@ -103,7 +103,7 @@ fn jacobian_is_affine_in_inverse_speed() {
     }
 }
 
-// MODEL §8's small-angle matrices against the exact Jacobian (error ∝ λ³) and the Klingel
+// docs/model.md §8's small-angle matrices against the exact Jacobian (error ∝ λ³) and the Klingel
 // wavelength under rigid creep are asserted in tests/validation_sections/closed.rs, which
 // also writes them into docs/VALIDATION.md.
 
@@ -235,7 +235,7 @@ fn eigen_residuals() {
     }
 }
 
-/// MODEL §5: with spin creep switched off, the Shen model's Hopf speed equals Kalker's.
+/// docs/model.md §5: with spin creep switched off, the Shen model's Hopf speed equals Kalker's.
 #[test]
 fn without_spin_shen_hopf_equals_kalker() {
     let mut s = SEED_SUSPENSION;
@@ -252,7 +252,7 @@ fn without_spin_shen_hopf_equals_kalker() {
         speeds.push(found.critical().expect("crossing").speed_m_s);
     }
     assert_relative_eq!(speeds[0], speeds[1], max_relative = 1e-9);
-    // with spin the two differ (MODEL §5 note): the Shen Jacobian is not Kalker's
+    // with spin the two differ (docs/model.md §5 note): the Shen Jacobian is not Kalker's
     let k =
         cone_wheelset(SEED_WHEELSET, s, SEED_CREEP, 0.05, CreepLaw::Kalker, true).expect("cone");
     let h = cone_wheelset(SEED_WHEELSET, s, SEED_CREEP, 0.05, SHEN, true).expect("cone");

@@ -61,7 +61,7 @@ fn solve_to(p: &ProfilePair, y: f64) -> [f64; 4] {
 
 #[test]
 fn left_and_right_are_mirror_images() {
-    // Track symmetry (MODEL §3): u_L(y) = u_R(−y) (so r_L(y) = r_R(−y)), φ(−y) = −φ(y).
+    // Track symmetry (docs/model.md §3): u_L(y) = u_R(−y) (so r_L(y) = r_R(−y)), φ(−y) = −φ(y).
     let p = pair();
     for y in [0.7e-3, 3e-3, 5.5e-3, 8e-3] {
         let a = solve_to(&p, y);

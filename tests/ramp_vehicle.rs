@@ -1,4 +1,4 @@
-//! The ramp method and its EN 14363 evaluation on vehicles (MODEL §11), checked against truths
+//! The ramp method and its EN 14363 evaluation on vehicles (docs/model.md §11), checked against truths
 //! that do not come from the ramp: maxima located by the integrator's own event search at
 //! constant speed, ΣY from the equations of motion, the filter and window run by hand on an
 //! independent simulation, the Hopf speed of the linear analysis, and constant-speed

@@ -1,7 +1,7 @@
 //! Time simulation, the ramp method and the EN 14363 criterion, checked against truths that do
 //! not come from the code under test: the continuation's cycles and Hopf point, the normal-form
-//! law of slow passage through a Hopf point, closed-form filter and r.m.s. values, and MODEL's
-//! force formulas.
+//! law of slow passage through a Hopf point, closed-form filter and r.m.s. values, and the
+//! force formulas of docs/model.md.
 
 use std::f64::consts::{PI, SQRT_2};
 use std::path::Path;
@@ -271,7 +271,7 @@ fn en14363_rms_on_the_cycle_is_the_fundamental() {
 
 #[test]
 fn sum_of_guiding_forces_is_creep_plus_gravitational_force_on_the_cone() {
-    // Kalker creep without spin on the closed-form cone (MODEL §3–5):
+    // Kalker creep without spin on the closed-form cone (docs/model.md §3–5):
     // ΣY = −2 f22 (ẏ/V − ψ) − (W/2)(tan(λ + φ) − tan(λ − φ)), φ = λy/l0
     let lambda = 0.05;
     let m = single(

@@ -19,7 +19,7 @@ fn error_of(text: &str) -> String {
     }
 }
 
-/// The seed study is MODEL §10's table, exactly, in SI.
+/// The seed study is docs/model.md §10's table, exactly, in SI.
 #[test]
 fn seed_study_is_model_section_10() {
     let p = study::parse(DEFAULT_STUDY, "seed").expect("seed study is valid");

@@ -1,4 +1,4 @@
-//! `geometry = "table"` (MODEL §3, method 3): the interpolation (data reproduced at the nodes,
+//! `geometry = "table"` (docs/model.md §3, method 3): the interpolation (data reproduced at the nodes,
 //! cubics exactly), the track symmetry, the exact Jacobian, a cone written as a table giving the
 //! closed-form cone's critical speeds, and the DTU table's conversion. The reader's units and
 //! errors are in `tests/table_reader.rs`.
@@ -95,7 +95,7 @@ fn critical(text: &str, law: CreepLaw) -> f64 {
         .speed_m_s
 }
 
-/// The closed-form cone (MODEL §3 method 1) written as a table gives the same V_L and V_H.
+/// The closed-form cone (docs/model.md §3 method 1) written as a table gives the same V_L and V_H.
 #[test]
 fn a_cone_written_as_a_table_gives_the_cone_critical_speeds() {
     let (lambda, l0, r0) = (0.15, 0.7429, 0.46);
@@ -131,7 +131,7 @@ fn dtu_plan() -> study::Plan {
     study::load(&root().join("studies/dtu-rsgeo-wheelset.toml")).expect("DTU study loads")
 }
 
-/// Track symmetry (MODEL §3): the left wheel is the right wheel at −y, so f(−x) = −f(x).
+/// Track symmetry (docs/model.md §3): the left wheel is the right wheel at −y, so f(−x) = −f(x).
 #[test]
 fn the_tabulated_wheelset_is_odd_symmetric() {
     let model = dtu_plan().wheelset_model().expect("model");
@@ -149,7 +149,7 @@ fn the_tabulated_wheelset_is_odd_symmetric() {
             );
         }
     }
-    // the right wheel's flange approaches its rail as y grows (MODEL §1, §3)
+    // the right wheel's flange approaches its rail as y grows (docs/model.md §1, §3)
     let t = &model.table;
     let (centre, out) = (t.right(0.0), t.right(0.007));
     assert!(out.radius > centre.radius && out.angle > centre.angle);
@@ -206,7 +206,7 @@ fn rows(text: &str) -> Vec<Vec<f64>> {
 }
 
 /// `studies/tables/dtu-rsgeo-1o40.csv` is the DTU DYTSI table (source: DYTSI
-/// input/RSGEO/1o40/RSGEO.dat, subsampled copy in ../shared/reference or tests/data) converted
+/// input/RSGEO/1o40/RSGEO.dat, LGPL; subsampled copy in tests/data) converted
 /// as its header says: copied columns unchanged, roll from the contact heights, δ = δ_axle + φ.
 #[test]
 fn the_committed_dtu_table_is_the_documented_conversion() {
@@ -246,7 +246,7 @@ fn the_committed_dtu_table_is_the_documented_conversion() {
 }
 
 /// No published critical speed was found for a single wheelset on this table (docs/VALIDATION.md
-/// section 6), so the DTU study is checked against the one independent reference MODEL §9 gives:
+/// section 6), so the DTU study is checked against the one independent reference docs/model.md §9 gives:
 /// with stiff primary springs the hunting wavelength at V_L is near Klingel's kinematic
 /// wavelength 2π√(r0 l0/λ_e), λ_e = dr_R/dy(0) of the table.
 #[test]
@@ -269,7 +269,7 @@ fn dtu_wheelset_hunts_at_the_kinematic_wavelength() {
 
 /// The exact Jacobian of the tabulated model (spline slopes through the Hermite contact table)
 /// agrees with central differences of f; and with spin off, the Shen law's Hopf speed is the
-/// Kalker critical speed (MODEL §5: no centred spin creep, so no pre-saturation).
+/// Kalker critical speed (docs/model.md §5: no centred spin creep, so no pre-saturation).
 #[test]
 fn tabulated_model_jacobian_and_spin_free_identity() {
     let mut plan = dtu_plan();

@@ -1,4 +1,4 @@
-//! The geometry table reader (MODEL §3 method 3): units converted from the header, malformed
+//! The geometry table reader (docs/model.md §3 method 3): units converted from the header, malformed
 //! files refused with file and line, study keys that do not fit a table refused.
 
 use std::path::PathBuf;

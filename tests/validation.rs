@@ -104,7 +104,7 @@ fn seed_section(s: &mut String) {
     let none = no_yaw.replace("lateral_damping = \"8 N s/mm\"", "lateral_damping = 0");
     let fmt = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:.2} m/s"));
     let wide = (1.0, 3000.0);
-    let _ = writeln!(s, "\nCritical speeds. The paper reports 40 m/s (linear, Kalker) and 35 m/s (Shen), defined by 30 s simulations from y(0) = 5 mm; its equations of motion are misprinted (MODEL §10). The model with the paper's parameters:\n");
+    let _ = writeln!(s, "\nCritical speeds. The paper reports 40 m/s (linear, Kalker) and 35 m/s (Shen), defined by 30 s simulations from y(0) = 5 mm; its equations of motion are misprinted (docs/model.md §10). The model with the paper's parameters:\n");
     let _ = writeln!(s, "| case | V_L (Kalker) | V_H (Shen) |\n|---|---|---|");
     for (name, text) in [
         ("the seed as stated", seed.to_string()),
@@ -159,7 +159,7 @@ fn closed_form_section(s: &mut String) {
 
 fn en15302_section(s: &mut String) {
     let _ = writeln!(s, "## 3. EN 15302 equivalent conicity benchmark\n");
-    let _ = writeln!(s, "Reference Δr functions and reference conicities with tolerances: EN 15302 Annexes E and F as transcribed in criogenox/B_ECC (`shared/reference/en15302_*`). critspeed: wavelength of the nonlinear kinematic oscillation (`critspeed conicity`).\n");
+    let _ = writeln!(s, "Reference Δr functions and reference conicities with tolerances: EN 15302 Annexes E and F as transcribed in criogenox/B_ECC (`tests/data/en15302_*`). critspeed: wavelength of the nonlinear kinematic oscillation (`critspeed conicity`).\n");
     let _ = writeln!(s, "| case | amplitudes compared | inside the tolerance | largest difference from the reference |\n|---|---|---|---|");
     let dr = reference("en15302_delta_r_reference.csv");
     let refs = reference("en15302_equivalent_conicity_reference.csv");

@@ -1,4 +1,4 @@
-//! Vehicles (MODEL §11): the limit checks that do not depend on the code, and the analyses
+//! Vehicles (docs/model.md §11): the limit checks that do not depend on the code, and the analyses
 //! on bogie and car studies against identities (eigen-residuals, the wheelset limit).
 
 use critspeed::analysis;
@@ -32,7 +32,7 @@ fn v_l<const N: usize>(v: &Vehicle) -> f64 {
         .speed_m_s
 }
 
-/// MODEL §11: a frame whose mass and inertia are scaled by F and its secondary stiffness by
+/// docs/model.md §11: a frame whose mass and inertia are scaled by F and its secondary stiffness by
 /// F² holds each wheelset as a fixed frame would; V_L tends to the single wheelset's, with an
 /// error falling like F⁻². The bogie's two wheelsets then hunt alike: its two lowest crossings
 /// (one pair per wheelset, split by the frame's coupling) both tend to the single wheelset's.
@@ -92,7 +92,7 @@ fn immovable_frame_limit_is_the_single_wheelset() {
     assert!(errors[3].iter().all(|e| *e < 1e-7), "{errors:?}");
 }
 
-/// MODEL §11: a rigid bogie (primary far stiffer than the creep forces, no secondary, no
+/// docs/model.md §11: a rigid bogie (primary far stiffer than the creep forces, no secondary, no
 /// gravitational stiffness or spin, creep coefficients → ∞) has the kinematic wavelength
 /// L = 2π √(r0 l0 (1 + a²/l0²)/λ) (Klingel–Heumann).
 #[test]
@@ -161,7 +161,7 @@ fn rigid_bogie_kinematic_wavelength() {
     }
     assert!(err(l[0]) / err(l[1]) > 5.0, "{l:?}");
     assert!(err(l[1]) < 1e-6, "{l:?} vs {expected}");
-    // and it is longer than the single wheelset's (MODEL §9) by √(1 + a²/l0²) ≈ 1.96 here
+    // and it is longer than the single wheelset's (docs/model.md §9) by √(1 + a²/l0²) ≈ 1.96 here
     let single = 2.0 * std::f64::consts::PI * (r0 * l0 / lambda).sqrt();
     assert!(l[1] / single > 1.9, "{} vs {single}", l[1]);
 }
@@ -256,7 +256,7 @@ fn vehicle_sections_are_checked() {
 
 /// A continued bogie cycle is the attractor a long simulation settles on at the same speed:
 /// amplitude and period agree to 1e-6; the trivial multiplier is 1 to the integration accuracy;
-/// the cycle has the half-period symmetry x(t + T/2) = −x(t) of MODEL §9 and §11.
+/// the cycle has the half-period symmetry x(t + T/2) = −x(t) of docs/model.md §9 and §11.
 #[test]
 fn continued_bogie_cycle_is_the_attractor_of_a_simulation() {
     use critspeed::bifurcation::{analyse, BifurcationOptions};

@@ -1,12 +1,12 @@
 !----------------------------------------------------------------------
-! AUTO-07p right-hand side of critspeed's wheelset (MODEL.md) for the cross-validation run by
+! AUTO-07p right-hand side of critspeed's wheelset (docs/model.md) for the cross-validation run by
 ! scripts/auto07p-compare: knife-edge rails under a wheel whose rolling radius is the odd
 ! cubic r_R(y) = r0 + LAM*y + KAP*y**3 (KAP = 0: the cone of seed-hunting-cone), roll
 ! phi = (r_R - r_L)/(2 l0), contact angles delta_R,L = LAM +- phi, Shen-Hedrick-Elkins creep
 ! with spin, no flange. The same functions critspeed evaluates for studies/seed-hunting-cone
 ! (closed-form cone) and studies/cubic-fold.toml (the cubic, through its table, which
 ! reproduces cubics exactly). KAP comes from geometry.inc, written per case by the script.
-! Adapted from ../shared/peers/auto07p/wheelset.f90 (the cone case).
+! The same file, with KAP = 0, is the timing run of scripts/auto07p-time (branch.sh).
 ! State in scaled units: U(1) = y [mm], U(2) = psi [mrad], U(3) = ydot/OMS [mm],
 ! U(4) = psidot/OMS [mrad], OMS = 30 rad/s; PAR(1) = V [m/s]; PAR(2) = max y [mm] (PVLS);
 ! PAR(11) = period [s].

@@ -1,5 +1,5 @@
 //! One motion at one speed: simulate from a start until it settles, then say what it settled
-//! on (MODEL §12's attractor classes).
+//! on (docs/model.md §12's attractor classes).
 //!
 //! The trajectory is cut by the Poincaré section $y_1 = 0$, $\dot y_1 > 0$ of the leading
 //! wheelset ([`integrate_sections`]). After each return:

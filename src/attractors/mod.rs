@@ -1,4 +1,4 @@
-//! The search for every attractor over speed (MODEL §12): simulations from many initial states at
+//! The search for every attractor over speed (docs/model.md §12): simulations from many initial states at
 //! a descending sequence of speeds, each motion classified when it has settled, every attractor
 //! found followed down in speed from its own state until it dies, and the speed where it dies
 //! bracketed by bisection.

@@ -1,6 +1,6 @@
 //! The nonlinear analysis of a study: the branches of hunting limit cycles from the Hopf point
 //! of the study's creep law, their stability, special points and the nonlinear critical speed
-//! (MODEL §9, §12).
+//! (docs/model.md §9, §12).
 //!
 //! This is the driver that joins the wheelset to the generic continuation: it finds the Hopf
 //! point and its eigenvector, chooses scales (1 mm of lateral amplitude ≈ 1 m/s of speed),
@@ -234,7 +234,7 @@ pub struct BifurcationReport {
     /// located special point or the supercritical Hopf point) or is only the lowest stable
     /// computed cycle
     pub nonlinear_critical_speed: Option<(f64, bool)>,
-    /// what sets it: the lowest candidate of each kind (MODEL §9: every stable cycle counts)
+    /// what sets it: the lowest candidate of each kind (docs/model.md §9: every stable cycle counts)
     pub nonlinear_sources: Vec<VnlCandidate>,
     /// the branches, the one from the Hopf point first
     pub branches: Vec<BranchRow>,

@@ -1,4 +1,4 @@
-//! The nonlinear critical speed V_NL (MODEL §9): the lowest speed at which any stable
+//! The nonlinear critical speed V_NL (docs/model.md §9): the lowest speed at which any stable
 //! non-equilibrium motion exists, over every branch the continuation followed and, where a
 //! search ran, every attractor it found.
 //!
@@ -258,7 +258,7 @@ mod tests {
     }
 
     /// A supercritical branch (stable from V_H = 100) that turns back at 110, comes down to a
-    /// fold at 80 and is stable again above it: V_NL is the fold at 80 (MODEL §9), not the Hopf
+    /// fold at 80 and is stable again above it: V_NL is the fold at 80 (docs/model.md §9), not the Hopf
     /// speed. Without the fold-back V_NL is V_H.
     #[test]
     fn the_lowest_stable_cycle_of_the_branch_sets_v_nl() {

@@ -15,8 +15,8 @@ use crate::contact::creep::CreepLaw;
 use crate::stability::{critical_speeds, CriticalSpeeds, LinearOptions, LinearSystem};
 use crate::study::{self, Plan};
 
-/// The seed paper's critical speeds (Anyakwo et al., `../shared/seed/`; MODEL §10): the linear
-/// one and the nonlinear one, both from 30 s simulations, in m/s.
+/// The seed paper's critical speeds (Anyakwo et al., `studies/seed.toml`; docs/model.md §10):
+/// the linear one and the nonlinear one, both from 30 s simulations, in m/s.
 pub const SEED_PAPER_LINEAR_M_S: f64 = 40.0;
 /// See [`SEED_PAPER_LINEAR_M_S`].
 pub const SEED_PAPER_NONLINEAR_M_S: f64 = 35.0;
@@ -119,9 +119,9 @@ fn summary(
          the seed paper's wheelset (studies/seed.toml), computed over [{lo}, {hi}] m/s:\n\
          \x20 linear (Kalker) critical speed V_L   paper {pl} m/s   critspeed {vl}\n\
          \x20 nonlinear critical speed V_NL        paper {pn} m/s   critspeed: {vh}\n\
-         \x20 the paper's speeds come from 30 s simulations, not from its parameters (MODEL §10):\n\
-         \x20 its yaw damping 2 C_px d^2 = {yd:.3e} N m s keeps the centred motion stable far\n\
-         \x20 beyond railway speeds\n\
+         \x20 the paper's speeds come from 30 s simulations, not from its parameters: its yaw\n\
+         \x20 damping 2 C_px d^2 = {yd:.3e} N m s keeps the centred motion stable far beyond\n\
+         \x20 railway speeds (docs/model.md §10)\n\
          the same wheelset made to hunt (studies/seed-hunting.toml: lateral primary {ky:.0} N/mm\n\
          per side, a worn-wheel cone: effective conicity {lam:.3} at the centre):\n\
          \x20 V_L = {hl}, V_H = {hh}{kind}, V_NL = {hn}\n\

@@ -1,4 +1,4 @@
-//! Creep forces: Kalker's linear theory and the Shen–Hedrick–Elkins saturation (MODEL §5).
+//! Creep forces: Kalker's linear theory and the Shen–Hedrick–Elkins saturation (docs/model.md §5).
 
 use crate::contact::kalker::CreepCoefficients;
 use crate::system::scalar::Scalar;

@@ -1,6 +1,6 @@
-//! Contact geometry as functions of the lateral displacement `y` (MODEL §3).
+//! Contact geometry as functions of the lateral displacement `y` (docs/model.md §3).
 //!
-//! Conventions (MODEL §1): `y` to the right, the roll `φ` positive when the right side is
+//! Conventions (docs/model.md §1): `y` to the right, the roll `φ` positive when the right side is
 //! raised, contact angles positive when the normal force pushes the wheel towards the track
 //! centre. All functions are for the **right** wheel; the left wheel follows from the track
 //! symmetry `r_L(y) = r_R(−y)`, `δ_L(y) = δ_R(−y)`, `φ(−y) = −φ(y)`.
@@ -31,7 +31,7 @@ pub enum Geometry {
         /// λ (–)
         conicity: f64,
     },
-    /// Cone of slope λ on a circular rail head (MODEL §3, method 2; the seed's eqs. 11–14).
+    /// Cone of slope λ on a circular rail head (docs/model.md §3, method 2; the seed's eqs. 11–14).
     ConeOnArc {
         /// λ (–)
         conicity: f64,
@@ -40,9 +40,9 @@ pub enum Geometry {
         /// lateral offset of the rail crown outside the nominal contact point (m)
         crown_offset: f64,
     },
-    /// A geometry tabulated in a file (MODEL §3, method 3), interpolated by C² splines.
+    /// A geometry tabulated in a file (docs/model.md §3, method 3), interpolated by C² splines.
     Table(Arc<TabulatedGeometry>),
-    /// Two arbitrary profiles (wheel and rail point lists) in rigid contact (MODEL §3,
+    /// Two arbitrary profiles (wheel and rail point lists) in rigid contact (docs/model.md §3,
     /// method 2); see [`crate::contact::rigid`].
     Profiles {
         /// the placed profile pair
@@ -174,7 +174,7 @@ impl Geometry {
     }
 }
 
-/// MODEL §3 method 1 (closed form).
+/// docs/model.md §3 method 1 (closed form).
 fn cone<T: Scalar>(lambda: f64, n: Nominal, y: T) -> ContactPoint<T> {
     let roll = y * (lambda / n.half_contact_distance);
     ContactPoint {
@@ -389,7 +389,7 @@ mod tests {
 
     #[test]
     fn arc_conicity_is_a_little_above_the_cone_slope() {
-        // MODEL §3: for the seed pair the solution is nearly linear in y, with an effective
+        // docs/model.md §3: for the seed pair the solution is nearly linear in y, with an effective
         // conicity a few per cent above λ. Here: (r_R − r_L)/(2y) at y = 1 mm.
         let g = seed_arc();
         let y = 1e-3;

@@ -1,4 +1,4 @@
-//! The Hertz elliptic contact patch (MODEL §4), generic over [`Scalar`] so that exact
+//! The Hertz elliptic contact patch (docs/model.md §4), generic over [`Scalar`] so that exact
 //! derivatives of the semi-axes propagate into the creep coefficients and the Jacobian.
 //!
 //! Two identical steel bodies (Young's modulus E in Pa, Poisson ratio ν) touch with normal
@@ -201,7 +201,7 @@ fn cbrt<T: Scalar>(x: T) -> T {
     x.lift(c, 1.0 / (3.0 * c * c))
 }
 
-/// The Hertz patch of two identical elastic bodies (MODEL §4).
+/// The Hertz patch of two identical elastic bodies (docs/model.md §4).
 ///
 /// * `normal_force` N (N), `curv_rolling` A = 1/r_wheel (1/m),
 ///   `curv_lateral` B = 1/R_rail + 1/R_wheel,transverse (1/m), both > 0;
@@ -335,7 +335,7 @@ mod tests {
         }
     }
 
-    /// MODEL §4 check: the seed's contact (N = 55 kN, r = 0.46 m, R_rail = 79.37 mm, steel)
+    /// docs/model.md §4 check: the seed's contact (N = 55 kN, r = 0.46 m, R_rail = 79.37 mm, steel)
     /// against the seed paper's a = 7.0045 mm, b = 2.20245 mm.
     #[test]
     fn seed_patch_matches_model_check() -> TestResult {
@@ -352,7 +352,7 @@ mod tests {
         Ok(())
     }
 
-    /// Against `shared/reference/hertz_mn.csv` (m, n, e from K(e), E(e), computed with scipy).
+    /// Against `tests/data/hertz_mn.csv` (m, n, e from K(e), E(e), computed with scipy).
     /// Conventions: the file writes the gap as A' x² + B' y² with A', B' HALF the summed
     /// curvatures, so A' = A/2, B' = B/2 here; θ = arccos((B−A)/(A+B)) is the same in both.
     /// Its semi-axes are m, n · L with L = [3N/(4E*(A'+B'))]^(1/3), 1/E* = 2(1−ν²)/E.

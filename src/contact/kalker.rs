@@ -1,6 +1,6 @@
-//! Kalker's linear creep coefficients (MODEL §5), generic over [`Scalar`].
+//! Kalker's linear creep coefficients (docs/model.md §5), generic over [`Scalar`].
 //!
-//! `kalker_coefficients.csv` (a verbatim copy of `shared/reference/`, embedded at compile
+//! `kalker_coefficients.csv` (a verbatim copy of `tests/data/`, source in its header, embedded at compile
 //! time) holds Kalker's dimensionless C11, C22, C23, C33 for ν = 0, 0.25, 0.5 against
 //! g = a/b (a ≤ b) and g = b/a (a ≥ b); a is the semi-axis in the rolling direction. (Its
 //! C33 at ν = 0 is marked as recalled, not verified; steel's ν ≈ 0.3 does not use it.)
@@ -9,7 +9,7 @@
 //! * $f_{11} = G\,ab\,C_{11}$ (N), $f_{22} = G\,ab\,C_{22}$ (N),
 //! * $f_{23} = G\,(ab)^{3/2} C_{23}$ (N m), $f_{33} = G\,(ab)^2 C_{33}$ (N m²),
 //!
-//! with MODEL's signs $F_y = -f_{22} ξ_y - f_{23} ω$, $M_z = f_{23} ξ_y - f_{33} ω$ and
+//! with the signs of docs/model.md §5: $F_y = -f_{22} ξ_y - f_{23} ω$, $M_z = f_{23} ξ_y - f_{33} ω$ and
 //! $f_{23} > 0$ (the file header's force law; C23 > 0 as tabulated).
 //!
 //! Interpolation: both halves of the table are mapped onto one abscissa
@@ -264,7 +264,7 @@ pub fn kalker_c<T: Scalar>(a_over_b: T, poisson_ratio: f64) -> Result<[T; 4], Ka
 }
 
 /// Creep coefficients of a Hertz patch with semi-axes `a` (rolling), `b` (lateral) (m),
-/// shear modulus G (Pa) and ν (MODEL §5; equations in the module docs).
+/// shear modulus G (Pa) and ν (docs/model.md §5; equations in the module docs).
 pub fn creep_coefficients<T: Scalar>(
     a: T,
     b: T,
@@ -304,19 +304,17 @@ mod tests {
     }
 
     /// The embedded table parses, and is a verbatim copy of
-    /// `shared/reference/kalker_coefficients.csv` (Kalker 1967/1990 via CONTACT's m_hertz.f90).
+    /// `tests/data/kalker_coefficients.csv` (Kalker 1967/1990 via CONTACT's m_hertz.f90, Apache-2.0).
     #[test]
     fn embedded_table_parses_and_is_the_shared_file() -> TestResult {
         let tab = table()?;
         assert_eq!(tab.t.len(), 19);
         assert_eq!(tab.range, (0.1, 10.0));
-        // Provenance: the embedded copy is byte-identical to the project's shared file. A
-        // clone on its own has no shared folder; then only the parse is checked, and it says so.
+        // Provenance: the embedded copy is byte-identical to the cited reference copy in
+        // tests/data/ (a packaged crate has no tests/data; then only the parse is checked).
         match crate::testutil::shared_reference("kalker_coefficients.csv") {
             Some(path) => assert_eq!(std::fs::read_to_string(path)?, TABLE_CSV),
-            None => eprintln!(
-                "../shared/reference/kalker_coefficients.csv absent: provenance not checked"
-            ),
+            None => eprintln!("tests/data/kalker_coefficients.csv absent: provenance not checked"),
         }
         Ok(())
     }
@@ -417,7 +415,7 @@ mod tests {
     }
 
     /// Reference README check: a = 7.0045 mm, b = 2.20245 mm, G = 80 GPa, ν = 0.3 against the
-    /// seed's stated f11 = 8.06e6 N, f22 = 8.09e6 N, f23 = 2.2e4 N m, f33 = 12.7 N m² (MODEL §10).
+    /// seed's stated f11 = 8.06e6 N, f22 = 8.09e6 N, f23 = 2.2e4 N m, f33 = 12.7 N m² (docs/model.md §10).
     /// f11, f22, f33 agree within 5 %. f23 comes out 6.5 % low: the table itself gives
     /// C23(b/a = 0.314, ν = 0.3) ≈ 4.24 (cubic fits in g, ln g or 1/g agree to 0.3 %; even
     /// piecewise-linear in g gives 4.30, −5.4 %) where the seed's value needs 4.54, so the

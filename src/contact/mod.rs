@@ -1,4 +1,4 @@
-//! Wheel–rail contact: geometry, Hertz patch, creep coefficients and creep laws (MODEL §3–6).
+//! Wheel–rail contact: geometry, Hertz patch, creep coefficients and creep laws (docs/model.md §3–6).
 
 pub mod creep;
 pub mod geometry;

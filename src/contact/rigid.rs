@@ -1,4 +1,4 @@
-//! Rigid two-point contact of an arbitrary wheel profile pair on arbitrary rails (MODEL §3,
+//! Rigid two-point contact of an arbitrary wheel profile pair on arbitrary rails (docs/model.md §3,
 //! method 2, general profiles).
 //!
 //! Frames as in [`crate::contact::geometry`]: wheelset frame (ζ lateral from the wheelset

@@ -2,14 +2,14 @@
 //!
 //! Every geometry (closed form or rigid-contact solve) is sampled once on a uniform grid
 //! `y_k = −Y + k·h` with its value **and exact slope** at each node; between nodes a cubic
-//! Hermite interpolant is used, so values and first derivatives are continuous (MODEL §3
+//! Hermite interpolant is used, so values and first derivatives are continuous (docs/model.md §3
 //! asks for at least C¹) and the slope at a node is the exact one. Cubic Hermite reproduces
 //! polynomials up to degree three, so the closed-form cone is reproduced to rounding. Beyond
 //! the tabulated range the state is extended linearly with the end slope (still C¹); the
 //! range is chosen by the study so that the motion stays inside it.
 //!
 //! The same table carries the Hertz semi-axes and, when the study does not give them, the
-//! creep coefficients at each contact state (MODEL §4–5: the normal force and the curvatures
+//! creep coefficients at each contact state (docs/model.md §4–5: the normal force and the curvatures
 //! change with `y`).
 
 use crate::contact::geometry::{ContactPoint, Geometry, GeometryError, Nominal};
@@ -396,7 +396,7 @@ fn node_columns(
     y: f64,
 ) -> Result<([Dual<1>; COLUMNS], bool), TableError> {
     let zero = Dual::cst(0.0);
-    // MODEL §4: N = (W/2)/cos δ
+    // docs/model.md §4: N = (W/2)/cos δ
     let normal = p.angle.cos().recip() * (spec.axle_load / 2.0);
     if let Some((column, value)) = tabulated.and_then(|t| t.non_positive_at(y)) {
         return Err(TableError::NonPositive {

@@ -2,7 +2,7 @@
 //!
 //! For a vector field $\dot x = f(x; p)$ with flow $φ_t(x; p)$ a periodic orbit through $x_0$
 //! with period $T$ satisfies $φ_T(x_0) − x_0 = 0$. When the field is odd, $f(−x) = −f(x)$ (the
-//! wheelset on tangent track, MODEL §9), the primary cycles are *symmetric*,
+//! wheelset on tangent track, docs/model.md §9), the primary cycles are *symmetric*,
 //! $x(t + T/2) = −x(t)$, and the half-period condition $φ_{T/2}(x_0) + x_0 = 0$ is used instead:
 //! half the integration, and the symmetry is exact. Its multipliers $ν$ (eigenvalues of
 //! $−Φ_{T/2}$) give the full Floquet multipliers $μ = ν^2$, and tell symmetry breaking

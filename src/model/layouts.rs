@@ -1,4 +1,4 @@
-//! The three layouts of MODEL §11 as assemblies of bodies and elements.
+//! The three layouts of docs/model.md §11 as assemblies of bodies and elements.
 //!
 //! | layout | bodies (state order) | states |
 //! |---|---|---|
@@ -18,13 +18,13 @@
 //! * **secondary vertical** (when given): the same ends at $±d_v$, stiffness and damping along z.
 //! * **yaw damper** (when given): the same ends at $±d_{yd}$, damping along x.
 //!
-//! Check (MODEL §11): for the wheelset layout the two primary elements give exactly
+//! Check (docs/model.md §11): for the wheelset layout the two primary elements give exactly
 //! $F_s = −2K_{py}y − 2C_{py}\dot y$ and $M_s = −2K_{px}d^2ψ − 2C_{px}d^2\dot ψ$ of §7.
 
 use super::vehicle::{AssemblyError, Attachment, Body, BodyKind, Element, Layout, Vehicle};
 use super::Wheelset;
 
-/// The primary's values beyond MODEL §7 (per side), SI.
+/// The primary's values beyond docs/model.md §7 (per side), SI.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PrimaryVertical {
     /// vertical stiffness per side (N/m); acts only on a rolling frame
@@ -93,7 +93,7 @@ pub struct CarBodyParams {
 /// Which layout, with the parameters it needs beyond the wheelset and its primary.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum VehicleSpec {
-    /// the single wheelset on a track-fixed frame (MODEL §1–8)
+    /// the single wheelset on a track-fixed frame (docs/model.md §1–8)
     Wheelset,
     /// a bogie under a track-fixed car body
     Bogie {
@@ -296,7 +296,7 @@ pub fn build(
     Vehicle::assemble(spec.layout(), bodies, elements, contact)
 }
 
-/// The single wheelset (MODEL §1–8) as a vehicle: the layout "wheelset" around `ws`, whose
+/// The single wheelset (docs/model.md §1–8) as a vehicle: the layout "wheelset" around `ws`, whose
 /// primary has no vertical part.
 pub fn single(ws: Wheelset) -> Result<Vehicle, AssemblyError> {
     build(&VehicleSpec::Wheelset, ws, &PrimaryVertical::default())

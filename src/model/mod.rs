@@ -1,5 +1,5 @@
-//! The models: the suspended wheelset's contact and equations of motion (MODEL §1–8), and
-//! vehicles assembled from bodies, elements and wheelsets (MODEL §11, [`vehicle`],
+//! The models: the suspended wheelset's contact and equations of motion (docs/model.md §1–8), and
+//! vehicles assembled from bodies, elements and wheelsets (docs/model.md §11, [`vehicle`],
 //! [`layouts`]). Every analysis takes a [`Vehicle`]; the single wheelset is its 4-state layout.
 //!
 //! State $x = (y, ψ, \dot y, \dot ψ)$ (m, rad, m/s, rad/s), forward speed $V > 0$ (m/s).
@@ -38,7 +38,7 @@ pub struct WheelsetParams {
     pub rolling_radius: f64,
 }
 
-/// Primary suspension, values per side (MODEL §7).
+/// Primary suspension, values per side (docs/model.md §7).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Suspension {
     /// lateral stiffness K_py (N/m)
@@ -53,7 +53,7 @@ pub struct Suspension {
     pub half_spring_spacing: f64,
 }
 
-/// Flange contact: a stiff spring beyond a dead band (MODEL §6).
+/// Flange contact: a stiff spring beyond a dead band (docs/model.md §6).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Flange {
     /// flange clearance δ_f (m)
@@ -71,7 +71,7 @@ pub struct Wheelset {
     pub suspension: Suspension,
     /// the study's creep law
     pub creep_law: CreepLaw,
-    /// whether spin creepage acts (MODEL §5; `false` drops f23, f33)
+    /// whether spin creepage acts (docs/model.md §5; `false` drops f23, f33)
     pub spin: bool,
     /// flange contact, if modelled
     pub flange: Option<Flange>,
@@ -131,7 +131,7 @@ impl Wheelset {
         match self.creep_law {
             CreepLaw::Kalker => f,
             CreepLaw::Shen { friction } => {
-                // MODEL §4: N_i = (W/2)/cos δ_i
+                // docs/model.md §4: N_i = (W/2)/cos δ_i
                 let normal = cos_angle.recip() * (p.axle_load / 2.0);
                 creep::shen(f, normal * friction)
             }
@@ -140,8 +140,8 @@ impl Wheelset {
 
     /// The generalised contact forces on the wheelset, $(Q_y, Q_ψ)$ (N, N m): creep on both
     /// wheels (after the creep law), the gravitational stiffness $F_N$ and the flange force
-    /// $F_f$ (MODEL §4–6), i.e. every term of §8 except the suspension. In a vehicle each
-    /// wheelset carries exactly these forces in its own state (MODEL §11).
+    /// $F_f$ (docs/model.md §4–6), i.e. every term of §8 except the suspension. In a vehicle each
+    /// wheelset carries exactly these forces in its own state (docs/model.md §11).
     #[inline]
     pub fn contact_forces<T: Scalar>(&self, x: &[T; 4], v: f64) -> (T, T) {
         let p = &self.params;
@@ -151,7 +151,7 @@ impl Wheelset {
         let (trig_r, trig_l) = (right.angle.sin_cos(), left.angle.sin_cos());
         let fr = self.wheel_force(&right, trig_r, 1.0, x, v);
         let fl = self.wheel_force(&left, trig_l, -1.0, x, v);
-        // gravitational stiffness, MODEL §4: tan δ = sin δ / cos δ
+        // gravitational stiffness, docs/model.md §4: tan δ = sin δ / cos δ
         let (tan_r, tan_l) = (trig_r.0 / trig_r.1, trig_l.0 / trig_l.1);
         let f_n = -((tan_r - tan_l) * (p.axle_load / 2.0));
         let f_f = flange_force(self.flange.as_ref(), y);
@@ -161,7 +161,7 @@ impl Wheelset {
         )
     }
 
-    /// The right-hand side $f(x; V)$ of $\dot x = f(x; V)$: MODEL §8 written out for the single
+    /// The right-hand side $f(x; V)$ of $\dot x = f(x; V)$: docs/model.md §8 written out for the single
     /// wheelset on a track-fixed frame. [`crate::model::Vehicle`] assembles the same model
     /// from elements; this direct form is the reference it is tested against.
     #[inline]
@@ -201,7 +201,7 @@ impl Wheelset {
         w.radius.eps[0]
     }
 
-    /// Kinematic (Klingel) wavelength $L_k = 2π\sqrt{r_0 l_0/λ_e}$ (m), MODEL §9.
+    /// Kinematic (Klingel) wavelength $L_k = 2π\sqrt{r_0 l_0/λ_e}$ (m), docs/model.md §9.
     pub fn klingel_wavelength(&self) -> f64 {
         let p = &self.params;
         2.0 * std::f64::consts::PI

@@ -1,4 +1,4 @@
-//! The assembly against MODEL §1–8 written out, and its Jacobian against differences.
+//! The assembly against docs/model.md §1–8 written out, and its Jacobian against differences.
 
 use proptest::prelude::*;
 
@@ -33,7 +33,7 @@ fn rel(a: f64, b: f64, scale: f64) -> f64 {
     (a - b).abs() / scale.max(f64::MIN_POSITIVE)
 }
 
-/// MODEL §11's check: the wheelset layout through the element assembly is §1–8 exactly.
+/// docs/model.md §11's check: the wheelset layout through the element assembly is §1–8 exactly.
 #[test]
 fn wheelset_layout_equals_the_direct_model() {
     for law in [CreepLaw::Kalker, CreepLaw::Shen { friction: 0.3 }] {
@@ -142,7 +142,7 @@ proptest! {
     }
 }
 
-/// Tangent track is symmetric: f(−x) = −f(x) for every layout (MODEL §11).
+/// Tangent track is symmetric: f(−x) = −f(x) for every layout (docs/model.md §11).
 #[test]
 fn vehicle_field_is_odd() {
     for spec in [
@@ -172,7 +172,7 @@ fn vehicle_field_is_odd() {
     }
 }
 
-/// The element formulation of MODEL §11 gives the stiffness matrix a symmetric,
+/// The element formulation of docs/model.md §11 gives the stiffness matrix a symmetric,
 /// positive semi-definite form, and a frame that is displaced rigidly with its wheelsets
 /// (same y, no yaw) stretches only the secondary.
 #[test]

@@ -1,5 +1,5 @@
 //! A vehicle as an assembly: rigid bodies, linear spring–damper elements between points of
-//! them (or of the track), and the wheel–rail contact of each wheelset (MODEL §11).
+//! them (or of the track), and the wheel–rail contact of each wheelset (docs/model.md §11).
 //!
 //! **States.** Every body has a lateral displacement $y$ and a yaw $ψ$; a frame or car body
 //! may also roll ($φ$). The generalised coordinates $q$ stack $(y, ψ[, φ])$ body after body in
@@ -19,13 +19,13 @@
 //! assembled once ([`Vehicle::assemble`]).
 //!
 //! **Equations of motion.** $M\ddot q = Q_{contact}(q, \dot q; V) + Q_{el}$, with $M$
-//! diagonal (mass, yaw and roll inertia) and $Q_{contact}$ the forces of MODEL §4–6 on each
+//! diagonal (mass, yaw and roll inertia) and $Q_{contact}$ the forces of docs/model.md §4–6 on each
 //! wheelset, a function of that wheelset's own $(y, ψ, \dot y, \dot ψ)$ only
 //! ([`Wheelset::contact_forces`]). The exact Jacobian is therefore
 //! $$J = \begin{pmatrix} 0 & I \\ M^{-1}(∂Q_c/∂q − K) & M^{-1}(∂Q_c/∂\dot q − C)\end{pmatrix}$$
 //! with the contact blocks (2×4 per wheelset) from dual numbers.
 //!
-//! Neglected, as MODEL §11 allows: gravity acting on a rolled body, the lateral component of
+//! Neglected, as docs/model.md §11 allows: gravity acting on a rolled body, the lateral component of
 //! vertical suspension forces under roll, bounce, pitch and longitudinal motion.
 
 use nalgebra::{SMatrix, SVector};
@@ -34,7 +34,7 @@ use super::Wheelset;
 use crate::contact::creep::CreepLaw;
 use crate::system::scalar::Dual;
 
-/// Which assembly a study describes (MODEL §11's three layouts).
+/// Which assembly a study describes (docs/model.md §11's three layouts).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Layout {
     /// one wheelset, primary suspension to a track-fixed frame: 4 states
@@ -368,7 +368,7 @@ impl Vehicle {
         let acc = &mut out[n..];
         for &w in &self.wheelset_dofs {
             let (qy, qpsi) = self.contact.contact_forces(&self.wheelset_state(x, w), v);
-            // (a + b == b + a exactly: the same sum as MODEL §8 written out)
+            // (a + b == b + a exactly: the same sum as docs/model.md §8 written out)
             acc[w] += qy;
             acc[w + 1] += qpsi;
         }
@@ -438,7 +438,7 @@ impl Vehicle {
         self.contact.centre_conicity()
     }
 
-    /// Kinematic (Klingel) wavelength of one free wheelset (m), MODEL §9.
+    /// Kinematic (Klingel) wavelength of one free wheelset (m), docs/model.md §9.
     pub fn klingel_wavelength(&self) -> f64 {
         self.contact.klingel_wavelength()
     }

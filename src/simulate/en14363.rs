@@ -12,7 +12,7 @@ use super::*;
 
 /// Sum of guiding forces ΣY (N) of the leading wheelset at state `x` (the model's states)
 /// and speed `v` (m/s): every lateral wheel–rail force on it (creep after the creep law,
-/// gravitational stiffness, flange), i.e. $m\ddot y − F_s$ of MODEL §8, taken directly as the
+/// gravitational stiffness, flange), i.e. $m\ddot y − F_s$ of docs/model.md §8, taken directly as the
 /// wheelset's lateral contact force ([`Vehicle::guiding_forces`] gives every wheelset's).
 pub fn sum_of_guiding_forces(model: &Vehicle, x: &[f64], v: f64) -> f64 {
     model

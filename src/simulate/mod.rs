@@ -1,4 +1,4 @@
-//! Time simulation of a model of any layout (wheelset, bogie, car: MODEL §11) at constant
+//! Time simulation of a model of any layout (wheelset, bogie, car: docs/model.md §11) at constant
 //! speed, the ramp method, and the EN 14363 instability criterion evaluated on the ramp's
 //! time history.
 //!
@@ -19,7 +19,7 @@
 //!
 //! # What the ramp estimate is, and which way it errs
 //!
-//! The ramp estimate is *not* the nonlinear critical speed $V_{NL}$ of MODEL §9; it
+//! The ramp estimate is *not* the nonlinear critical speed $V_{NL}$ of docs/model.md §9; it
 //! approaches it as the deceleration $r \to 0$ and the threshold $\to 0$, and the two
 //! limits err in opposite directions:
 //!
@@ -65,16 +65,16 @@
 //!
 //! The assessment quantity is the sum of guiding forces ΣY on each wheelset: the lateral
 //! wheel–rail forces, creep (after the Shen factor), the lateral resultant of the normal
-//! forces and the flange force: every term of $m\ddot y$ in MODEL §8 except the suspension
+//! forces and the flange force: every term of $m\ddot y$ in docs/model.md §8 except the suspension
 //! force, i.e. for wheelset $k$ of a vehicle
 //! $$ΣY_k = m\ddot y_k + (Kq + C\dot q)_{y_k}$$
-//! (MODEL §11: every lateral force on it but the elements'), taken directly as its lateral
+//! (docs/model.md §11: every lateral force on it but the elements'), taken directly as its lateral
 //! contact force ([`Vehicle::guiding_forces`]; [`sum_of_guiding_forces`] is the leading
 //! wheelset's). Each wheelset's ΣY is band-pass filtered to $f_0 ± 2$ Hz around the hunting
 //! frequency $f_0$ (one $f_0$ for the vehicle, measured on the leading wheelset), and its
 //! sliding r.m.s. over 100 m of track is compared with $(ΣY)_{lim} = (10 + 2Q_0/3)/2$ kN,
 //! $Q_0$ the static wheel load in kN ([`en14363_limit`]): $Q_0 = W/2$ with $W$ the study's
-//! axle load, which MODEL §2 and §11 define as the whole vertical load on the axle's two
+//! axle load, which docs/model.md §2 and §11 define as the whole vertical load on the axle's two
 //! contacts (for a vehicle it already includes the bogie's and the car body's share: the
 //! DTU studies give 133.3 kN, the load of their contact table), so the limit is the same for
 //! every wheelset. The vehicle's verdict is that of its worst wheelset ([`worst_wheelset`]:

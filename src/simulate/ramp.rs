@@ -365,7 +365,7 @@ impl<'a> Pipeline<'a> {
             .frequency_after(t_from)
             .or_else(|| self.frequency_after(0.0));
         // Q0 = W/2: the study's axle load W is the whole vertical load on the axle's two
-        // contacts (MODEL §2, §11), bogie and car body included
+        // contacts (docs/model.md §2, §11), bogie and car body included
         let limit = en14363_limit(self.model.contact.params.axle_load / 2.0);
         let wheelsets = self.model.wheelset_dofs().len();
         let mut streams: Vec<EnStream> = (0..wheelsets)

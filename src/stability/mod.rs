@@ -1,6 +1,6 @@
 //! Linear stability of the centred motion: spectrum at a speed and the critical speeds.
 //!
-//! At $x = 0$ the creepages depend on the speed only through $1/V$ (MODEL §5), and the
+//! At $x = 0$ the creepages depend on the speed only through $1/V$ (docs/model.md §5), and the
 //! equilibrium creep forces do not depend on it at all, so the exact Jacobian is affine in
 //! $1/V$ for both creep laws: $J(V) = J_0 + J_1/V$. [`LinearSystem`] holds $J_0, J_1$, taken
 //! from the model's exact (dual-number) Jacobian; a test checks the identity at random speeds.
@@ -15,7 +15,7 @@
 //! (onset or recovery of stability) exactly. The speed range is scanned on a uniform grid and
 //! each sign change refined by Brent's method. This is the 4-state path.
 //!
-//! **Any number of states** (vehicles, MODEL §11). With more states the characteristic
+//! **Any number of states** (vehicles, docs/model.md §11). With more states the characteristic
 //! polynomial is too ill-conditioned to use, so the scan computes the eigenvalues of $J(V)$
 //! on a grid ([`EIGEN_GRID_POINTS`] speeds by default, refined where the least damped pair
 //! turns above the axis between grid speeds) and looks at every grid step where the count of

@@ -28,7 +28,7 @@ pub use attractors::AttractorSettings;
 use schema::{Quantity, StudyFile};
 use units::{parse_quantity, Dimension, UnitProblem};
 
-/// The seed study (MODEL §10), embedded so that `critspeed run` works with no file.
+/// The seed study (docs/model.md §10), embedded so that `critspeed run` works with no file.
 pub const DEFAULT_STUDY: &str = include_str!("../../studies/seed.toml");
 
 /// The seed wheelset made to hunt near 70 m/s (`studies/seed-hunting.toml`), embedded for the
@@ -118,12 +118,12 @@ pub struct Plan {
     pub description: String,
     /// wheelset
     pub wheelset: WheelsetParams,
-    /// the primary suspension per side (MODEL §7), wheelset to frame (to the track for the
+    /// the primary suspension per side (docs/model.md §7), wheelset to frame (to the track for the
     /// wheelset layout)
     pub suspension: Suspension,
     /// the primary's vertical stiffness, damping and height (frame roll only)
     pub primary_vertical: PrimaryVertical,
-    /// the layout and its bodies beyond the wheelsets (MODEL §11)
+    /// the layout and its bodies beyond the wheelsets (docs/model.md §11)
     pub vehicle: VehicleSpec,
     /// contact
     pub contact: ContactPlan,
@@ -690,7 +690,7 @@ impl Plan {
         }
     }
 
-    /// The single wheelset of MODEL §1–8 (its contact and primary): the contact part of every
+    /// The single wheelset of docs/model.md §1–8 (its contact and primary): the contact part of every
     /// wheelset of the vehicle. Tabulates the contact geometry.
     pub fn wheelset_model(&self) -> Result<Wheelset, TableError> {
         let table = ContactTable::build(&self.contact.geometry, &self.table_spec())?;

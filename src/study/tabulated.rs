@@ -1,4 +1,4 @@
-//! `geometry = "table"`: resolve and read the geometry table of a study (MODEL §3, method 3).
+//! `geometry = "table"`: resolve and read the geometry table of a study (docs/model.md §3, method 3).
 
 use std::path::Path;
 use std::sync::Arc;

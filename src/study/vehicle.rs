@@ -1,5 +1,5 @@
 //! `[vehicle]`, `[bogie]`, `[secondary]`, `[carbody]` and the primary's vertical keys: the
-//! layout of MODEL §11, in SI, checked.
+//! layout of docs/model.md §11, in SI, checked.
 
 use super::schema::{Quantity, StudyFile};
 use super::units::Dimension;

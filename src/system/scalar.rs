@@ -3,7 +3,7 @@
 //! Every model function (contact geometry, Hertz patch, creep laws, the equations of motion)
 //! is written once, generic over [`Scalar`]. Evaluated on `f64` it gives values; evaluated on
 //! [`Dual<N>`] it gives values *and* exact first derivatives with respect to `N` seeded
-//! directions. That is how the exact Jacobian ∂f/∂x of MODEL §8 is obtained, and how the
+//! directions. That is how the exact Jacobian ∂f/∂x of docs/model.md §8 is obtained, and how the
 //! contact-geometry tables get exact slopes at their nodes (so the interpolant is C¹ with
 //! exact nodal derivatives).
 //!

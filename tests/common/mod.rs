@@ -48,15 +48,8 @@ pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// A published reference file: from `../shared/reference/` when the shared folder is beside
-/// the clone, else the cited copy in `tests/data/`.
+/// A published reference file from `tests/data/` (source and licence in `tests/data/README.md`).
 pub fn reference(name: &str) -> String {
-    let path = [
-        root().join("../shared/reference").join(name),
-        root().join("tests/data").join(name),
-    ]
-    .into_iter()
-    .find(|p| p.is_file())
-    .unwrap_or_else(|| panic!("{name} not found"));
-    std::fs::read_to_string(path).expect("readable")
+    let path = root().join("tests/data").join(name);
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }

@@ -1,5 +1,5 @@
-//! VALIDATION.md, section 2 (continued): the knife-edge cone limits of MODEL §8 and the
-//! kinematic (Klingel) wavelength of MODEL §9.
+//! VALIDATION.md, section 2 (continued): the knife-edge cone limits of docs/model.md §8 and the
+//! kinematic (Klingel) wavelength of docs/model.md §9.
 
 use std::fmt::Write as _;
 
@@ -23,11 +23,11 @@ fn first_order(m: &Matrix2<f64>, c: &Matrix2<f64>, k: &Matrix2<f64>) -> Matrix4<
     j
 }
 
-/// MODEL §8: the exact Jacobian of the cone on knife-edge rails against the small-angle
+/// docs/model.md §8: the exact Jacobian of the cone on knife-edge rails against the small-angle
 /// matrices; the difference is O(λ²) relative to the λ-proportional entries, so halving λ
 /// divides it (relative to the whole matrix) by about eight.
 pub fn knife_edge_section(s: &mut String) {
-    let _ = writeln!(s, "Cone on knife-edge rails (seed wheelset and creep coefficients, spin on, V = 50 m/s): the exact Jacobian at the centre against MODEL §8's small-angle matrices M, C, K. The difference comes only from cos δ, tan δ and sin δ, so it must vanish like λ³ relative to the whole matrix (λ² relative to the λ-proportional entries):\n");
+    let _ = writeln!(s, "Cone on knife-edge rails (seed wheelset and creep coefficients, spin on, V = 50 m/s): the exact Jacobian at the centre against docs/model.md §8's small-angle matrices M, C, K. The difference comes only from cos δ, tan δ and sin δ, so it must vanish like λ³ relative to the whole matrix (λ² relative to the λ-proportional entries):\n");
     let _ = writeln!(
         s,
         "| λ | max abs(J_exact − J_small-angle) / max abs(J_exact) | ratio to the previous λ |\n|---|---|---|"
@@ -59,7 +59,7 @@ pub fn knife_edge_section(s: &mut String) {
     let _ = writeln!(s);
 }
 
-/// MODEL §9: with rigid creep (f11 = f22 = 1e13 N) and no suspension, gravity or spin, the
+/// docs/model.md §9: with rigid creep (f11 = f22 = 1e13 N) and no suspension, gravity or spin, the
 /// hunting wavelength V/f of the kinematic mode is Klingel's 2π√(r0 l0/λ).
 pub fn klingel_section(s: &mut String) {
     let _ = writeln!(s, "Kinematic (Klingel) wavelength: cone on knife-edge rails, rigid creep (f11 = f22 = 1e13 N), no suspension, no gravitational stiffness, no spin. The slow oscillatory eigenvalue pair's wavelength V/f against 2π√(r0 l0/λ):\n");

@@ -1,4 +1,4 @@
-//! VALIDATION.md sections of the tabulated geometry (MODEL §3 method 3): the DTU RSGEO table
+//! VALIDATION.md sections of the tabulated geometry (docs/model.md §3 method 3): the DTU RSGEO table
 //! as critspeed reads and interpolates it, and a single wheelset computed on it.
 
 use std::fmt::Write as _;
@@ -134,6 +134,6 @@ pub fn dtu_wheelset_section(s: &mut String) {
         s,
         "| lowest speed of a computed stable cycle | {lowest:.1} m/s |"
     );
-    let _ = writeln!(s, "\nThe primary springs (1.823 and 3.646 MN/m per side, DYTSI's Cooperrider values) tie the wheelset to a fixed frame, so the hunting speed is far above the bogie's; the hunting wavelength at V_L is the kinematic one to {:.1} %. The branch is supercritical at V_H, folds back at the first fold and regains stability only in a sliver between the two close folds near 120.7 m/s, in the tread region where the table's contact angle is irregular; so the nonlinear critical speed (MODEL §9: the lowest speed at which a stable cycle exists) is the lower fold of that sliver, far below V_H; how much of it is physics and how much the table's irregular contact angle is open. Model differences a comparison would have to account for: DYTSI's wheelset has roll and vertical freedoms with elastic (penetration-based) normal forces and no spin moment M_z; critspeed uses quasi-static N = (W/2)/cos δ and Kalker's spin moment with C33 from Kalker's table.\n",
+    let _ = writeln!(s, "\nThe primary springs (1.823 and 3.646 MN/m per side, DYTSI's Cooperrider values) tie the wheelset to a fixed frame, so the hunting speed is far above the bogie's; the hunting wavelength at V_L is the kinematic one to {:.1} %. The branch is supercritical at V_H, folds back at the first fold and regains stability only in a sliver between the two close folds near 120.7 m/s, in the tread region where the table's contact angle is irregular; so the nonlinear critical speed (docs/model.md §9: the lowest speed at which a stable cycle exists) is the lower fold of that sliver, far below V_H; how much of it is physics and how much the table's irregular contact angle is open. Model differences a comparison would have to account for: DYTSI's wheelset has roll and vertical freedoms with elastic (penetration-based) normal forces and no spin moment M_z; critspeed uses quasi-static N = (W/2)/cos δ and Kalker's spin moment with C33 from Kalker's table.\n",
         100.0 * (vl.wavelength_m / model.klingel_wavelength() - 1.0));
 }

@@ -1,4 +1,4 @@
-//! MODEL §3 method 3: a contact geometry read from a CSV table and interpolated C².
+//! docs/model.md §3 method 3: a contact geometry read from a CSV table and interpolated C².
 //!
 //! # File format
 //!
@@ -9,7 +9,7 @@
 //! |---|---|---|
 //! | lateral displacement y of the wheelset (towards the tabulated wheel's rail) | `y_m`, `y_mm` | yes |
 //! | rolling radius r_R, or r_R − r0 | `r_m`, `r_mm`, `r_minus_r0_m`, `r_minus_r0_mm` | one of them |
-//! | contact angle δ_R to the **track** plane (MODEL §3: includes the roll) | `delta_rad`, `delta_deg` | yes |
+//! | contact angle δ_R to the **track** plane (docs/model.md §3: includes the roll) | `delta_rad`, `delta_deg` | yes |
 //! | wheelset roll φ | `roll_rad`, `roll_deg` | yes |
 //! | Hertz semi-axes a (rolling), b (lateral) | `a_m`/`a_mm` and `b_m`/`b_mm` | optional, both |
 //! | Kalker's coefficients C11, C22, C23 (dimensionless) | `c11`, `c22`, `c23` | optional, all three |
@@ -19,11 +19,11 @@
 //! The roll is required: it cannot be derived from the other columns exactly (for a cone on
 //! knife-edge rails φ = (r_R − r_L)/(2 l0), but real profiles' contact points move up and down
 //! the rail head, which changes φ; see `studies/tables/dtu-rsgeo-1o40.csv` for how it was
-//! derived there from the contact heights). The equations of motion (MODEL §4–8) use δ_R,
+//! derived there from the contact heights). The equations of motion (docs/model.md §4–8) use δ_R,
 //! which already contains φ; the roll column is carried for output.
 //!
 //! Rows must have strictly increasing y and cover both signs of y: the table is the **right**
-//! wheel's (MODEL §1: y > 0 moves the wheelset towards the right rail, the right wheel's flange
+//! wheel's (docs/model.md §1: y > 0 moves the wheelset towards the right rail, the right wheel's flange
 //! approaches its rail, δ_R and r_R grow), and the left wheel is r_L(y) = r_R(−y),
 //! δ_L(y) = δ_R(−y). A table given for the left wheel with y measured to the right is
 //! converted by y → −y (reverse the rows); radii, angles and patch data keep their values, the
@@ -34,7 +34,7 @@
 //! Each column gets a not-a-knot cubic spline ([`CubicSpline`]): C², the data reproduced at the
 //! nodes, cubics reproduced exactly, and exact slopes for the contact table's Hermite sampling.
 //! When the file gives a, b and the normal force N_file, the semi-axes are scaled to the
-//! model's normal force N = (W/2)/cos δ (MODEL §4) by Hertz's $a ∝ N^{1/3}$ at fixed
+//! model's normal force N = (W/2)/cos δ (docs/model.md §4) by Hertz's $a ∝ N^{1/3}$ at fixed
 //! curvatures, so the axle load of the study is respected.
 
 use std::path::Path;
@@ -252,7 +252,7 @@ impl TabulatedGeometry {
         })
     }
 
-    /// Creep coefficients from the tabulated Kalker C at `y` and the patch (a, b) (MODEL §5);
+    /// Creep coefficients from the tabulated Kalker C at `y` and the patch (a, b) (docs/model.md §5);
     /// C33 from Kalker's table at a/b when the file has none. `None`: no C in the file.
     pub fn creep(
         &self,
@@ -294,7 +294,7 @@ mod tests {
         1,460,0.05,0,6,4,4.2,3.7,1.6,50\n3,460,0.05,0,6,4,4.2,3.7,1.6,50\n";
 
     /// Hertz: a, b ∝ N^{1/3}; eight times the file's load doubles the semi-axes, and
-    /// f11 = G a b C11 follows (MODEL §5).
+    /// f11 = G a b C11 follows (docs/model.md §5).
     #[test]
     fn semi_axes_follow_the_model_normal_force() {
         let t = TabulatedGeometry::parse(TABLE, "t.csv", 0.46).expect("valid");
