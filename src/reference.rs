@@ -14,6 +14,7 @@
 //! $Δ_3 = u^2(pqr + pqσu^2 − q^2 − p^2w) = 0$ gives
 //! $$V_c = \sqrt{\frac{pqσ}{q^2 + p^2 w − pqr}},\qquad ω_c^2 = q/p.$$
 
+pub mod chaos;
 pub mod switching;
 
 use nalgebra::Matrix2;

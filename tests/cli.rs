@@ -198,12 +198,15 @@ fn bifurcation_json_and_branch_csv_contract() {
         "hopf_speed_m_s",
         "hopf_type",
         "nonlinear_critical_speed_m_s",
+        "nonlinear_critical_speed_sources",
+        "branches",
         "special_points",
         "stop_reason",
     ] {
         assert!(v.get(key).is_some(), "missing {key}");
     }
     assert_eq!(v["hopf_type"], "supercritical");
+    assert_eq!(v["branches"][0]["kind"], "symmetric");
     let folds: Vec<&serde_json::Value> = v["special_points"]
         .as_array()
         .expect("array")
@@ -218,9 +221,10 @@ fn bifurcation_json_and_branch_csv_contract() {
     let header = csv.lines().next().expect("header");
     assert_eq!(
         header,
-        "speed_m_s,amplitude_y_m,amplitude_psi_rad,period_s,frequency_hz,stable,\
-max_multiplier_abs,trivial_multiplier_error,newton_iterations,y0_m,psi0_rad,ydot0_m_s,\
-psidot0_rad_s,mu1_re,mu1_im,mu2_re,mu2_im,mu3_re,mu3_im,mu4_re,mu4_im"
+        "branch,branch_kind,speed_m_s,amplitude_y_m,amplitude_y_right_m,amplitude_y_left_m,\
+amplitude_psi_rad,period_s,frequency_hz,stable,max_multiplier_abs,trivial_multiplier_error,\
+newton_iterations,y0_m,psi0_rad,ydot0_m_s,psidot0_rad_s,mu1_re,mu1_im,mu2_re,mu2_im,mu3_re,\
+mu3_im,mu4_re,mu4_im"
     );
     let cols = header.split(',').count();
     assert!(csv.lines().skip(1).all(|l| l.split(',').count() == cols));

@@ -44,6 +44,8 @@ fn continuation<'a>(
         amplitude: &radius,
         progress: None,
         cancel: None,
+        extent: None,
+        rejoin: None,
     }
 }
 
@@ -235,6 +237,8 @@ fn segments_case<const N: usize>() {
                 amplitude: &|_: &OrbitPoint<N>, peaks: &SVector<f64, N>| peaks[0],
                 progress: None,
                 cancel: None,
+                extent: None,
+                rejoin: None,
             };
             let start = OrbitPoint {
                 x0: SVector::<f64, N>::zeros(),

@@ -406,7 +406,8 @@ fn eigenvalue_scan_equals_the_quartic_scan_on_wheelset_studies() {
 }
 
 /// The default bifurcation diagram of the study `file` and its folds (printed with the solver
-/// statistics, for the test log); the branch must end at the amplitude bound.
+/// statistics, for the test log); the branch must end at the amplitude bound or where it
+/// leaves the contact table's range (its default bound).
 fn diagram_and_folds(
     file: &str,
 ) -> (
@@ -432,7 +433,8 @@ fn diagram_and_folds(
         r.stats
     );
     assert!(
-        r.stop_reason.starts_with("amplitude bound"),
+        r.stop_reason.starts_with("amplitude bound")
+            || r.stop_reason.starts_with("cut where a wheelset leaves the contact geometry"),
         "{file}: {}",
         r.stop_reason
     );

@@ -351,12 +351,13 @@ fn unsettled<const N: usize>(
     }
 }
 
-/// The largest Lyapunov exponent (1/s) along the orbit from `x`: a tangent vector carried by the
-/// variational equations over `chunks` intervals of length `tau`, renormalised after each
-/// (Benettin et al. 1980); `None` if an integration fails.
-pub fn largest_lyapunov<const N: usize>(
-    model: &Vehicle,
-    speed: f64,
+/// The largest Lyapunov exponent (1/time unit of the field) along the orbit from `x` at
+/// parameter `p`: a tangent vector carried by the variational equations over `chunks`
+/// intervals of length `tau`, renormalised after each (Benettin, Galgani, Giorgilli & Strelcyn,
+/// Meccanica 15 (1980)); `None` if an integration fails.
+pub fn largest_lyapunov<const N: usize, F: crate::system::ode::VectorField<N>>(
+    field: &F,
+    p: f64,
     x: &SVector<f64, N>,
     tau: f64,
     chunks: usize,
@@ -368,7 +369,7 @@ pub fn largest_lyapunov<const N: usize>(
     let mut w = SVector::<f64, N>::from_element(1.0).normalize();
     let mut sum = 0.0;
     for _ in 0..chunks {
-        let sol = integrate(model, speed, &x, tau, &opts).ok()?;
+        let sol = integrate(field, p, &x, tau, &opts).ok()?;
         let phi = sol.monodromy?;
         let v = phi * w;
         let n = v.norm();

@@ -1,0 +1,141 @@
+//! The attractor search: its chaos test on a system with a published Lyapunov exponent, its
+//! verdicts on wheelset motions against the cycles solved independently by Newton, and V_NL by
+//! the search against the continuation on studies whose answer is a located point.
+
+use critspeed::attractors::classify::{classify, largest_lyapunov, Settle};
+use critspeed::attractors::{search, AttractorOptions, MotionKind};
+use critspeed::bifurcation::{self, solve_cycle};
+use critspeed::reference::chaos::Lorenz;
+use critspeed::reference::HopfNormalForm;
+use critspeed::system::ode::{integrate, OdeOptions, Tolerances};
+use nalgebra::SVector;
+
+fn settle() -> Settle {
+    Settle {
+        max_time: 30.0,
+        threshold: 1e-5,
+        max_period: 8,
+        geometry_limit: None,
+        rtol: 1e-8,
+        cycle_rtol: 1e-10,
+    }
+}
+
+fn study(name: &str) -> critspeed::study::Plan {
+    critspeed::study::load(std::path::Path::new(&format!(
+        "{}/studies/{name}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    )))
+    .expect("a shipped study")
+}
+
+/// Lorenz at σ = 10, β = 8/3, ρ = 28: λ₁ = 0.9056 (Sprott 2003). Over 1000 time units the
+/// estimate's statistical error is about 0.01.
+#[test]
+fn the_lorenz_attractor_has_its_published_largest_lyapunov_exponent() {
+    let f = Lorenz {
+        sigma: 10.0,
+        beta: 8.0 / 3.0,
+    };
+    let opts = OdeOptions {
+        tol: Tolerances::new(1e-10, 1e-12).expect("valid"),
+        ..OdeOptions::default()
+    };
+    // onto the attractor first
+    let x = integrate(&f, 28.0, &SVector::<f64, 3>::new(1.0, 1.0, 1.0), 50.0, &opts)
+        .expect("integrates")
+        .x;
+    let l = largest_lyapunov(&f, 28.0, &x, 1.0, 1000, 1e-10).expect("an exponent");
+    assert!((l - 0.9056).abs() < 0.03, "{l}");
+}
+
+/// On a stable limit cycle the largest exponent is the flow direction's, 0; the radial one is
+/// −2μ (Hopf normal form, μ = 1).
+#[test]
+fn a_stable_cycle_has_largest_lyapunov_exponent_zero() {
+    let f = HopfNormalForm {
+        omega: 2.0,
+        a: -1.0,
+        b: 0.0,
+    };
+    let l = largest_lyapunov(&f, 1.0, &SVector::<f64, 2>::new(1.0, 0.0), 1.0, 300, 1e-10)
+        .expect("an exponent");
+    assert!(l.abs() < 0.01, "{l}");
+}
+
+/// seed-hunting at 75 m/s (above its supercritical Hopf point V_H = 70.707 m/s): a kick
+/// settles on the symmetric cycle, which equals the continuation's cycle at that speed,
+/// solved independently by Newton from the branch, in period and amplitude to 1e-6; at 60 m/s
+/// (below V_L) the kick decays.
+#[test]
+fn a_kicked_wheelset_settles_on_the_continued_cycle_or_decays() {
+    let plan = study("seed-hunting");
+    let model = plan.model().expect("model");
+    let mut kick = SVector::<f64, 4>::zeros();
+    kick[0] = 0.004;
+    let m = classify::<4>(&model, 75.0, &kick, &settle());
+    assert_eq!(m.kind, MotionKind::SymmetricCycle, "{m:?}");
+    // the continuation's branch, its cycle nearest 75 m/s solved at 75 m/s
+    let b = bifurcation::analyse("seed-hunting", &model, &plan.bifurcation_options())
+        .expect("branch");
+    let near = b
+        .cycles
+        .iter()
+        .min_by(|x, y| (x.speed_m_s - 75.0).abs().total_cmp(&(y.speed_m_s - 75.0).abs()))
+        .expect("cycles");
+    let x0: [f64; 4] = std::array::from_fn(|i| near.x0[i]);
+    let (orbit, floquet, _) =
+        solve_cycle::<4>(&model, 75.0, x0, near.period_s, 1e-10, true).expect("cycle");
+    assert!(floquet.stable());
+    let t = m.period_s.expect("a period");
+    assert!((t - orbit.period).abs() < 1e-6 * orbit.period, "{t} {}", orbit.period);
+    let (_, high, _) = critspeed::system::ode::integrate_with_extremes(
+        &model,
+        75.0,
+        &orbit.x0,
+        orbit.period,
+        &OdeOptions {
+            tol: Tolerances::new(1e-10, 1e-13).expect("valid"),
+            ..OdeOptions::default()
+        },
+    )
+    .expect("one period");
+    let a = m.amplitude_m();
+    assert!((a - high[0]).abs() < 1e-6 * high[0], "{a} {}", high[0]);
+    // symmetric: the two sides agree
+    let s = m.amplitudes[0];
+    assert!((s.y_right_m - s.y_left_m).abs() < 1e-6 * a);
+    let m = classify::<4>(&model, 60.0, &kick, &settle());
+    assert_eq!(m.kind, MotionKind::Equilibrium, "{m:?}");
+}
+
+/// The search on two wheelsets whose V_NL is a located point: seed-hunting (supercritical Hopf
+/// point, V_NL = V_H) and S1002/UIC60 (subcritical, the fold at 40.795 m/s): the speed where
+/// the lowest attractor dies is bracketed to 0.1 m/s around the continuation's point; every
+/// speed's basin fractions add up to 1.
+#[test]
+fn the_search_brackets_the_continuations_v_nl_on_the_wheelsets() {
+    for name in ["seed-hunting", "s1002-uic60"] {
+        let plan = study(name);
+        let model = plan.model().expect("model");
+        let bo = plan.bifurcation_options();
+        let b = bifurcation::analyse(name, &model, &bo).expect("branch");
+        let (v_cont, located) = b.nonlinear_critical_speed.expect("V_NL");
+        assert!(located);
+        let opts = AttractorOptions::new(bo.speed_range, b.hopf.map(|h| h.speed_m_s), bo.geometry_limit);
+        let r = search(name, &model, &opts, Some(&b)).expect("search");
+        let (v, bracket, _) = r.nonlinear_critical_speed.expect("an attractor");
+        let (lo, hi) = bracket.expect("a bracket");
+        assert!(hi - lo <= opts.bracket + 1e-12, "{lo} {hi}");
+        assert!((v - hi).abs() < 1e-12);
+        // the true death speed lies in the bracket, the continuation's within its width
+        assert!(
+            v_cont > lo - opts.bracket && v_cont < hi + opts.bracket,
+            "{name}: continuation {v_cont}, search [{lo}, {hi}]"
+        );
+        for s in &r.speeds {
+            let sum: f64 = s.outcomes.iter().map(|o| o.fraction).sum();
+            assert!((sum - 1.0).abs() < 1e-12, "{sum}");
+        }
+    }
+}
