@@ -42,9 +42,15 @@ fn the_lorenz_attractor_has_its_published_largest_lyapunov_exponent() {
         ..OdeOptions::default()
     };
     // onto the attractor first
-    let x = integrate(&f, 28.0, &SVector::<f64, 3>::new(1.0, 1.0, 1.0), 50.0, &opts)
-        .expect("integrates")
-        .x;
+    let x = integrate(
+        &f,
+        28.0,
+        &SVector::<f64, 3>::new(1.0, 1.0, 1.0),
+        50.0,
+        &opts,
+    )
+    .expect("integrates")
+    .x;
     let l = largest_lyapunov(&f, 28.0, &x, 1.0, 1000, 1e-10).expect("an exponent");
     assert!((l - 0.9056).abs() < 0.03, "{l}");
 }
@@ -76,19 +82,27 @@ fn a_kicked_wheelset_settles_on_the_continued_cycle_or_decays() {
     let m = classify::<4>(&model, 75.0, &kick, &settle());
     assert_eq!(m.kind, MotionKind::SymmetricCycle, "{m:?}");
     // the continuation's branch, its cycle nearest 75 m/s solved at 75 m/s
-    let b = bifurcation::analyse("seed-hunting", &model, &plan.bifurcation_options())
-        .expect("branch");
+    let b =
+        bifurcation::analyse("seed-hunting", &model, &plan.bifurcation_options()).expect("branch");
     let near = b
         .cycles
         .iter()
-        .min_by(|x, y| (x.speed_m_s - 75.0).abs().total_cmp(&(y.speed_m_s - 75.0).abs()))
+        .min_by(|x, y| {
+            (x.speed_m_s - 75.0)
+                .abs()
+                .total_cmp(&(y.speed_m_s - 75.0).abs())
+        })
         .expect("cycles");
     let x0: [f64; 4] = std::array::from_fn(|i| near.x0[i]);
     let (orbit, floquet, _) =
         solve_cycle::<4>(&model, 75.0, x0, near.period_s, 1e-10, true).expect("cycle");
     assert!(floquet.stable());
     let t = m.period_s.expect("a period");
-    assert!((t - orbit.period).abs() < 1e-6 * orbit.period, "{t} {}", orbit.period);
+    assert!(
+        (t - orbit.period).abs() < 1e-6 * orbit.period,
+        "{t} {}",
+        orbit.period
+    );
     let (_, high, _) = critspeed::system::ode::integrate_with_extremes(
         &model,
         75.0,
@@ -122,7 +136,11 @@ fn the_search_brackets_the_continuations_v_nl_on_the_wheelsets() {
         let b = bifurcation::analyse(name, &model, &bo).expect("branch");
         let (v_cont, located) = b.nonlinear_critical_speed.expect("V_NL");
         assert!(located);
-        let opts = AttractorOptions::new(bo.speed_range, b.hopf.map(|h| h.speed_m_s), bo.geometry_limit);
+        let opts = AttractorOptions::new(
+            bo.speed_range,
+            b.hopf.map(|h| h.speed_m_s),
+            bo.geometry_limit,
+        );
         let r = search(name, &model, &opts, Some(&b)).expect("search");
         let (v, bracket, _) = r.nonlinear_critical_speed.expect("an attractor");
         let (lo, hi) = bracket.expect("a bracket");

@@ -434,7 +434,8 @@ fn diagram_and_folds(
     );
     assert!(
         r.stop_reason.starts_with("amplitude bound")
-            || r.stop_reason.starts_with("cut where a wheelset leaves the contact geometry"),
+            || r.stop_reason
+                .starts_with("cut where a wheelset leaves the contact geometry"),
         "{file}: {}",
         r.stop_reason
     );

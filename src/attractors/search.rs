@@ -23,7 +23,7 @@ use crate::model::{BodyKind, Vehicle};
 pub struct AttractorOptions {
     /// the speeds of the grid (m/s), from the lowest to the highest
     pub speed_range: (f64, f64),
-    /// grid speeds (≥ 1; default 6)
+    /// grid speeds (default 6; 0: no grid, [`descents_only`](Self::descents_only))
     pub speeds: usize,
     /// the amplitudes of the initial kicks (m); default 30, 60 and 90 % of the contact
     /// geometry's range (of 10 mm where it has none)
@@ -74,10 +74,22 @@ impl AttractorOptions {
         }
     }
 
-    /// The grid, highest speed first (one speed: the top of the range).
+    /// The fast form of the search that sweeps use: no grid of initial states, only the
+    /// descents from the continuation's lowest stable cycles (each checked by simulation and
+    /// followed down, through any jump to another attractor, until it dies).
+    pub fn descents_only(mut self) -> Self {
+        self.speeds = 0;
+        self
+    }
+
+    /// The grid, highest speed first (one speed: the top of the range; none for
+    /// [`descents_only`](Self::descents_only)).
     pub fn grid(&self) -> Vec<f64> {
         let (lo, hi) = self.speed_range;
-        let n = self.speeds.max(1);
+        let n = self.speeds;
+        if n == 0 {
+            return Vec::new();
+        }
         if n == 1 {
             return vec![hi];
         }
@@ -258,6 +270,16 @@ fn stretch_ends(r: Option<&BifurcationReport>) -> Vec<(f64, Vec<f64>, String)> {
         // the lowest cycle that is clearly stable (next to a fold the multiplier is 1 and the
         // cycle neither attracts nor repels within a simulation); the descent from it finds the
         // fold by bisection
+        // the stretch that starts at a supercritical Hopf point: its small cycles shrink to
+        // the centred motion there (no jump below is possible), which the continuation has
+        // located; a descent would spend its time in the slow decay next to V_H
+        if k == 0
+            && c.branch == 0
+            && r.hopf_type == Some(crate::bifurcation::HopfType::Supercritical)
+        {
+            k = end + 1;
+            continue;
+        }
         let stretch = &r.cycles[k..=end];
         let clear = stretch
             .iter()
@@ -542,33 +564,56 @@ fn identify(
     id
 }
 
-/// Follows the attractors `fresh` down from where they were found (in parallel).
+/// Whether an attractor already followed covers the motion `m`: its descent passes within 5 %
+/// of `m`'s speed with the same motion (amplitudes within a fifth).
+fn covered(attractors: &[Attractor], m: &Motion) -> bool {
+    attractors.iter().any(|a| {
+        a.path
+            .iter()
+            .any(|p| (p.speed_m_s - m.speed_m_s).abs() <= 0.05 * m.speed_m_s && same(p, m, 0.2))
+    })
+}
+
+/// Follows the attractors `fresh` down from where they were found (in parallel), and then
+/// every attractor one of them jumped to where it died, until no new one appears.
 fn follow<const N: usize>(
     ctx: &Ctx<'_>,
-    attractors: &mut [Attractor],
+    attractors: &mut Vec<Attractor>,
     fresh: &[usize],
     grid: &[f64],
+    continued: Option<&BifurcationReport>,
 ) {
-    let work = |&id: &usize| {
-        let a = &attractors[id];
-        ctx.say(&format!(
-            "  following attractor {id} ({}, {:.3} mm) down from {:.2} m/s",
-            a.kind.name(),
-            a.path[0].amplitude_m() * 1e3,
-            a.found_at_m_s
-        ));
-        (id, descend::<N>(ctx, &a.path[0], grid))
-    };
-    let followed: Vec<_> = if ctx.opts.parallel {
-        fresh.par_iter().map(work).collect()
-    } else {
-        fresh.iter().map(work).collect()
-    };
-    for (id, (path, dies, fate, _below)) in followed {
-        if let Some(a) = attractors.get_mut(id) {
-            a.path = path;
-            a.dies_m_s = dies;
-            a.fate = fate;
+    let mut fresh = fresh.to_vec();
+    while !fresh.is_empty() && !ctx.cancelled() {
+        let work = |&id: &usize| {
+            let a = &attractors[id];
+            ctx.say(&format!(
+                "  following attractor {id} ({}, {:.3} mm) down from {:.2} m/s",
+                a.kind.name(),
+                a.path[0].amplitude_m() * 1e3,
+                a.found_at_m_s
+            ));
+            (id, descend::<N>(ctx, &a.path[0], grid))
+        };
+        let followed: Vec<_> = if ctx.opts.parallel {
+            fresh.par_iter().map(work).collect()
+        } else {
+            fresh.iter().map(work).collect()
+        };
+        let mut landed = Vec::new();
+        for (id, (path, dies, fate, below)) in followed {
+            if let Some(a) = attractors.get_mut(id) {
+                a.path = path;
+                a.dies_m_s = dies;
+                a.fate = fate;
+            }
+            landed.extend(below.filter(|m| m.kind.is_hunting()));
+        }
+        fresh.clear();
+        for m in landed {
+            if !covered(attractors, &m) {
+                identify(attractors, &mut fresh, &m, continued);
+            }
         }
     }
 }
@@ -734,7 +779,7 @@ fn search_states<const N: usize>(
             ids.push(Some(id));
         }
         notes.extend(non_attractors(v, &motions, &starts, opts.geometry_limit));
-        follow::<N>(&ctx, &mut attractors, &fresh, &grid);
+        follow::<N>(&ctx, &mut attractors, &fresh, &grid, continued);
         rows.push(SpeedRow {
             speed_m_s: v,
             starts: motions.len(),
@@ -776,7 +821,7 @@ fn search_states<const N: usize>(
             identify(&mut attractors, &mut fresh, m, continued);
         }
     }
-    follow::<N>(&ctx, &mut attractors, &fresh, &grid);
+    follow::<N>(&ctx, &mut attractors, &fresh, &grid, continued);
     let vnl = attractors
         .iter()
         .filter(|a| a.kind.is_hunting())

@@ -30,7 +30,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
         }
         Command::Bifurcation { study, json } => {
             let p = prepare(load(study)?)?;
-            let report = bifurcation(&p, &cli.out)?;
+            let report = nonlinear(&p, &cli.out)?;
             if *json {
                 let text = serde_json::to_string_pretty(&output::bifurcation_json(&report))
                     .map_err(compute)?;
@@ -185,6 +185,17 @@ pub(super) fn bifurcation(p: &Prepared, root: &Path) -> Result<BifurcationReport
     Ok(report)
 }
 
+/// The continuation and, when the study has an `[attractors]` section, the attractor search
+/// (its summary printed, its files written): the report carries the one V_NL of both.
+pub(super) fn nonlinear(p: &Prepared, root: &Path) -> Result<BifurcationReport, Failure> {
+    if p.plan().attractors.is_none() {
+        return bifurcation(p, root);
+    }
+    let (r, b) = super::attractors::run(p, root)?;
+    results(&super::attractors::table(&r, &b))?;
+    Ok(b)
+}
+
 /// A command-line quantity: a plain number (SI) or a number with a unit.
 pub(super) fn argument(flag: &str, text: &str, dim: Dimension) -> Result<f64, Failure> {
     api::quantity(flag, text, dim)
@@ -227,7 +238,7 @@ pub(super) fn run_study(root: &Path, plan: Plan) -> Result<LinearReport, Failure
     let report = linear(&p, root)?;
     results(&table::linear(p.plan(), &report))?;
     if p.plan().bifurcation.is_some() {
-        let b = bifurcation(&p, root)?;
+        let b = nonlinear(&p, root)?;
         results(&table::bifurcation(&b))?;
     }
     Ok(report)

@@ -317,7 +317,7 @@ fn nonlinear(rec: &mut PointRecord, plan: &crate::study::Plan, model: &Vehicle) 
         parallel: false,
         ..plan.bifurcation_options()
     };
-    match bifurcation::analyse(&plan.name, model, &opts) {
+    match bifurcation::analyse(&plan.name, model, &opts).map(|r| with_descents(plan, model, r)) {
         Ok(r) => match (r.nonlinear_critical_speed, r.hopf) {
             (Some((v, located)), _) => {
                 (rec.nonlinear_m_s, rec.nonlinear_located) = (Some(v), Some(located))
@@ -333,6 +333,33 @@ fn nonlinear(rec: &mut PointRecord, plan: &crate::study::Plan, model: &Vehicle) 
         },
         Err(e) => rec.failures.push(format!("nonlinear: {e}")),
     }
+}
+
+/// The sweep's V_NL is the analysis' (docs/model.md §9) in its fast form: the continuation with
+/// branch switching, and the descent by simulation from each of its lowest stable cycles
+/// (followed through any jump to another attractor until it dies), without the search's grid
+/// of initial states; the lower of the two.
+fn with_descents(
+    plan: &crate::study::Plan,
+    model: &Vehicle,
+    mut r: bifurcation::BifurcationReport,
+) -> bifurcation::BifurcationReport {
+    let bo = plan.bifurcation_options();
+    let mut opts = plan
+        .attractors
+        .clone()
+        .unwrap_or_default()
+        .options(
+            bo.speed_range,
+            r.hopf.map(|h| h.speed_m_s),
+            bo.geometry_limit,
+        )
+        .descents_only();
+    opts.parallel = false;
+    if let Ok(s) = crate::attractors::search(&plan.name, model, &opts, Some(&r)) {
+        bifurcation::vnl::combine(&mut r, &s);
+    }
+    r
 }
 
 #[cfg(test)]
