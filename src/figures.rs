@@ -215,7 +215,7 @@ fn stability_runs(cycles: &[&crate::bifurcation::CycleRow]) -> Vec<(bool, Vec<(f
             let end = (k + 1).min(cycles.len());
             let pts = cycles[start..end]
                 .iter()
-                .map(|c| (c.speed_m_s, c.amplitude_y_m * 1e3))
+                .map(|c| (c.speed_m_s, c.wheelset_amplitude_m * 1e3))
                 .collect();
             out.push((cycles[start].stable, pts));
             start = k;
@@ -228,7 +228,9 @@ fn stability_runs(cycles: &[&crate::bifurcation::CycleRow]) -> Vec<(bool, Vec<(f
 /// (symmetric, asymmetric, period-2, …), stable cycles solid, unstable dashed, the centred
 /// solution along the axis, the special points by kind, Hopf, Kalker and V_NL marked.
 pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> Result<String, PlotError> {
-    render_svg(&bifurcation_figure(r), 1000, 650)
+    let mut fig = bifurcation_figure(r);
+    headroom(&mut fig);
+    render_svg(&fig, 1000, 650)
 }
 
 /// `attractors.svg`: every attractor the search found, amplitude (the leading wheelset's max
@@ -244,6 +246,15 @@ pub fn attractors(
         let dies = a.dies_m_s.map_or(String::new(), |d| {
             format!(", dies in [{:.2}, {:.2}] m/s", d.0, d.1)
         });
+        use crate::attractors::MotionKind as M;
+        // an attractor in its kind's colour (the branches' colours for cycles)
+        let colour = match a.kind {
+            M::SymmetricCycle => 0,
+            M::AsymmetricCycle => 1,
+            M::PeriodK(_) => 2,
+            M::QuasiPeriodic => 4,
+            _ => 5,
+        };
         fig.series.push(Series {
             name: format!("attractor {}: {}{dies}", a.id, a.kind.name()),
             points: a
@@ -251,16 +262,28 @@ pub fn attractors(
                 .iter()
                 .map(|m| (m.speed_m_s, m.amplitude_m() * 1e3))
                 .collect(),
-            style: Style::Points,
+            style: Style::PointsIn {
+                colour,
+                crosses: false,
+            },
         });
     }
-    for sp in &r.speeds {
-        fig.vlines.push(Marker {
-            at: sp.speed_m_s,
-            label: String::new(),
-        });
-    }
+    headroom(&mut fig);
     render_svg(&fig, 1100, 700)
+}
+
+/// Room above the data for the legend: the y range from just below 0 to well above the largest
+/// amplitude drawn, so that the legend sits above the branches instead of on them.
+fn headroom(fig: &mut Figure) {
+    let top = fig
+        .series
+        .iter()
+        .flat_map(|s| s.points.iter().map(|p| p.1))
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::max);
+    if top > 0.0 {
+        fig.y_range = Some((-0.04 * top * 2.2, top * 2.2));
+    }
 }
 
 fn bifurcation_figure(r: &crate::bifurcation::BifurcationReport) -> Figure {
@@ -268,7 +291,11 @@ fn bifurcation_figure(r: &crate::bifurcation::BifurcationReport) -> Figure {
     let mut fig = figure(
         &format!("{}: hunting limit cycles ({} creep)", r.study, r.law.name()),
         "speed V (m/s)",
-        "lateral amplitude max|y| (mm)",
+        if r.state_names.len() > 4 {
+            "largest wheelset's lateral amplitude max|y| (mm)"
+        } else {
+            "lateral amplitude max|y| (mm)"
+        },
     );
     let colour = |k: BranchKind| match k {
         BranchKind::Symmetric => 0,
@@ -323,15 +350,21 @@ fn bifurcation_figure(r: &crate::bifurcation::BifurcationReport) -> Figure {
             }
         }
     }
+    // the centred motion in black, along the axis
     let (lo, hi) = r.speed_range;
+    let centred = |name: &str, pts: Vec<(f64, f64)>, dashed: bool| Series {
+        name: name.into(),
+        points: pts,
+        style: Style::LineIn { dashed, colour: 6 },
+    };
     match r.hopf {
         Some(h) => {
-            fig.series.push(line(
+            fig.series.push(centred(
                 "centred: stable",
                 vec![(lo, 0.0), (h.speed_m_s, 0.0)],
                 false,
             ));
-            fig.series.push(line(
+            fig.series.push(centred(
                 "centred: unstable",
                 vec![(h.speed_m_s, 0.0), (hi, 0.0)],
                 true,
@@ -345,9 +378,11 @@ fn bifurcation_figure(r: &crate::bifurcation::BifurcationReport) -> Figure {
                 ),
             });
         }
-        None => fig
-            .series
-            .push(line("centred: stable", vec![(lo, 0.0), (hi, 0.0)], false)),
+        None => fig.series.push(centred(
+            "centred: stable",
+            vec![(lo, 0.0), (hi, 0.0)],
+            false,
+        )),
     }
     if let Some(v) = r.kalker_critical_speed_m_s {
         fig.vlines.push(Marker {
@@ -378,12 +413,18 @@ fn bifurcation_figure(r: &crate::bifurcation::BifurcationReport) -> Figure {
             name,
             points: of
                 .iter()
-                .map(|s| (s.speed_m_s, s.amplitude_y_m * 1e3))
+                .map(|s| (s.speed_m_s, s.wheelset_amplitude_m * 1e3))
                 .collect(),
-            style: if kind == crate::continuation::SpecialKind::Fold {
-                Style::Points
-            } else {
-                Style::Crosses
+            style: {
+                use crate::continuation::SpecialKind as K;
+                // folds black dots; symmetry breaking, period doubling, torus crosses
+                let (colour, crosses) = match kind {
+                    K::Fold => (6, false),
+                    K::SymmetryBreaking => (4, true),
+                    K::PeriodDoubling => (5, true),
+                    K::Torus => (3, true),
+                };
+                Style::PointsIn { colour, crosses }
             },
         });
     }

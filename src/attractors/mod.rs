@@ -131,9 +131,10 @@ impl Motion {
         }
     }
 
-    /// The leading wheelset's max |y| (m).
+    /// The largest wheelset's max |y| (m): the hunting amplitude (on a car one bogie may hunt
+    /// while the other is nearly still, so the leading wheelset's alone can mislead).
     pub fn amplitude_m(&self) -> f64 {
-        self.amplitudes.first().map_or(0.0, |a| a.y_m())
+        self.excursion_m
     }
 }
 

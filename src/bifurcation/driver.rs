@@ -374,12 +374,26 @@ fn stop_reason<const N: usize>(branch: &Branch<N>, opts: &BifurcationOptions) ->
     }
 }
 
+/// The largest wheelset's max |y| over an orbit with component peaks `peaks`.
+fn wheelset_amplitude<const N: usize>(
+    model: &Vehicle,
+    peaks: &SVector<f64, N>,
+    leading: f64,
+) -> f64 {
+    model
+        .wheelset_dofs()
+        .iter()
+        .filter_map(|&d| peaks.get(d).copied())
+        .fold(leading, f64::max)
+}
+
 fn cycle_row<const N: usize>(branch: usize, p: &BranchPoint<N>, model: &Vehicle) -> CycleRow {
     CycleRow {
         branch,
         speed_m_s: p.orbit.param,
         amplitude_y_m: p.amplitude,
         amplitude_sides_y_m: (p.high[0], -p.low[0]),
+        wheelset_amplitude_m: wheelset_amplitude(model, &p.peaks, p.amplitude),
         amplitude_psi_rad: p.peaks[1],
         period_s: p.orbit.period,
         stable: p.floquet.stable(),
@@ -438,6 +452,7 @@ fn fill<const N: usize>(
                 kind: s.kind,
                 speed_m_s: s.orbit.param,
                 amplitude_y_m: s.amplitude,
+                wheelset_amplitude_m: wheelset_amplitude(model, &s.peaks, s.amplitude),
                 located: s.located,
             }));
         report.branches.push(BranchRow {

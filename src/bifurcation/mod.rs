@@ -178,6 +178,9 @@ pub struct CycleRow {
     /// the leading wheelset's largest excursion to the right, max y (m), and to the left,
     /// max −y (m): equal on symmetric cycles, the two sides of an asymmetric one
     pub amplitude_sides_y_m: (f64, f64),
+    /// the largest wheelset's lateral amplitude max |y| (m): the leading wheelset's for the
+    /// single wheelset; on a car one bogie may hunt while the other is nearly still
+    pub wheelset_amplitude_m: f64,
     /// yaw amplitude max |ψ| (rad)
     pub amplitude_psi_rad: f64,
     /// period (s)
@@ -209,8 +212,10 @@ pub struct SpecialRow {
     pub kind: SpecialKind,
     /// speed (m/s)
     pub speed_m_s: f64,
-    /// lateral amplitude (m)
+    /// lateral amplitude of the leading wheelset (m)
     pub amplitude_y_m: f64,
+    /// the largest wheelset's lateral amplitude (m; as [`CycleRow::wheelset_amplitude_m`])
+    pub wheelset_amplitude_m: f64,
     /// located to tolerance (true) or only bracketed
     pub located: bool,
     /// index in [`BifurcationReport::cycles`] of the branch's cycle just before it

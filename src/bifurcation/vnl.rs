@@ -192,6 +192,7 @@ mod tests {
             speed_m_s,
             amplitude_y_m: 1e-3,
             amplitude_sides_y_m: (1e-3, 1e-3),
+            wheelset_amplitude_m: 1e-3,
             amplitude_psi_rad: 1e-3,
             period_s: 0.1,
             stable,
@@ -210,6 +211,7 @@ mod tests {
             kind,
             speed_m_s,
             amplitude_y_m: 5e-3,
+            wheelset_amplitude_m: 5e-3,
             located: true,
             after,
         }

@@ -155,6 +155,8 @@ pub struct SpecialPoint<const N: usize> {
     pub orbit: OrbitPoint<N>,
     /// amplitude there
     pub amplitude: f64,
+    /// the largest |x_k| over its orbit, per component
+    pub peaks: SVector<f64, N>,
     /// whether it was located to `locate_tol`, or only bracketed
     pub located: bool,
     /// width of the final arclength bracket (scaled)
@@ -692,6 +694,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             kind,
             after: index,
             amplitude: (self.amplitude)(&best.orbit, &best.peaks),
+            peaks: best.peaks,
             orbit: best.orbit,
             located: bracket <= tol,
             bracket,
@@ -711,6 +714,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             after: index,
             orbit: a.orbit,
             amplitude: a.amplitude,
+            peaks: a.peaks,
             located: false,
             bracket: ds,
         }

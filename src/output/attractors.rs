@@ -18,6 +18,7 @@ fn motion_json(m: &Motion, bodies: &[String]) -> Value {
         "speed_m_s": m.speed_m_s,
         "kind": m.kind.name(),
         "period_s": m.period_s,
+        "amplitude_m": m.amplitude_m(),
         "amplitude_y_right_m": m.amplitudes.first().map(|a| a.y_right_m),
         "amplitude_y_left_m": m.amplitudes.first().map(|a| a.y_left_m),
         "max_multiplier_abs": m.max_multiplier,
@@ -49,7 +50,7 @@ pub fn attractors_json(r: &AttractorReport, b: &BifurcationReport) -> Value {
                 "fate": a.fate,
                 "branch": a.branch.map(|x| x.0),
                 "branch_difference": a.branch.map(|x| json!({"amplitude": x.1, "period": x.2})),
-                "amplitude_y_m_at_found": top.map(|m| m.amplitude_m()),
+                "amplitude_m_at_found": top.map(|m| m.amplitude_m()),
                 "path": a.path.iter().map(|m| motion_json(m, &r.body_names)).collect::<Vec<_>>(),
             })
         })

@@ -84,6 +84,14 @@ pub enum Style {
     },
     /// Unconnected filled circles.
     Points,
+    /// Unconnected filled circles (`crosses`: crosses ×) in the palette's colour number
+    /// `colour` (it does not take the next colour).
+    PointsIn {
+        /// Index into the series palette.
+        colour: usize,
+        /// Draw crosses instead of circles.
+        crosses: bool,
+    },
     /// Filled triangles pointing up: each value is a lower bound (the true one lies above).
     Above,
     /// Unconnected crosses (×), e.g. points that have no value, drawn at a chosen place.

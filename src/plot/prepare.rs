@@ -210,6 +210,15 @@ pub(crate) fn prepare(fig: &Figure) -> Result<Prepared, PlotError> {
                 item.points = visible.map(|(_, p)| (p, item.colour)).collect();
                 next_colour += 1;
             }
+            Style::PointsIn { colour, crosses } => {
+                item.colour = series_colour(*colour);
+                item.mark = if *crosses {
+                    Mark::Crosses
+                } else {
+                    Mark::Points
+                };
+                item.points = visible.map(|(_, p)| (p, item.colour)).collect();
+            }
             Style::PointsColoured { values, label } => {
                 let bar = bars.iter().find(|b| b.label == *label);
                 let colour = |i: usize| bar.map_or(viridis(0.5), |b| b.colour(values.get(i)));
