@@ -18,7 +18,9 @@ use crate::bifurcation::BifurcationOptions;
 use crate::contact::creep::CreepLaw;
 use crate::contact::geometry::{Geometry, Nominal};
 use crate::contact::kalker::CreepCoefficients;
-use crate::contact::table::{ContactTable, CreepSource, Elastic, TableError, TableSpec};
+use crate::contact::table::{
+    ContactTable, CreepSource, Elastic, Extrapolation, TableError, TableSpec,
+};
 use crate::model::{
     layouts, Flange, PrimaryVertical, Suspension, Vehicle, VehicleSpec, Wheelset, WheelsetParams,
 };
@@ -92,6 +94,8 @@ pub struct ContactPlan {
     pub lateral_range: f64,
     /// geometry table nodes
     pub table_points: usize,
+    /// what the analyses may do beyond the table's valid range (default: cut there)
+    pub extrapolate: Extrapolation,
 }
 
 /// A validated study: everything in SI, defaults filled.
@@ -550,6 +554,14 @@ fn contact_plan(
             rule: "must lie in [5, 100001]".into(),
         });
     }
+    let extrapolate = match c.extrapolate.as_deref() {
+        None => Extrapolation::default(),
+        Some(text) => Extrapolation::parse(text).ok_or_else(|| StudyError::Choice {
+            key: "contact.extrapolate".into(),
+            value: text.into(),
+            allowed: Extrapolation::ALLOWED,
+        })?,
+    };
     Ok(ContactPlan {
         geometry,
         creep_law,
@@ -563,6 +575,7 @@ fn contact_plan(
         creep,
         lateral_range,
         table_points,
+        extrapolate,
     })
 }
 
