@@ -3,10 +3,10 @@
 //! Every geometry (closed form, tabulated file or rigid contact of profiles) is sampled once
 //! on a uniform grid `y_k = −Y + k·h` with, at each node, its value, its **exact slope** and a
 //! second derivative; between nodes a quintic Hermite interpolant is used (module `quintic`),
-//! so value, slope and second derivative are continuous. The Jacobian of
-//! the equations of motion is then continuous along an orbit (C¹ tables made it jump at every
-//! node: the integrator's error estimate of the monodromy is not valid across such jumps, and
-//! S1002's diagram rejected a third of its trial steps). Values and slopes at the nodes are
+//! so value, slope and second derivative are continuous. The Jacobian of the equations of
+//! motion is then continuous along an orbit (with a C¹ table it jumps at every node, where the
+//! integrator's error estimate is not valid: on S1002 a third of the trial steps then fail).
+//! Values and slopes at the nodes are
 //! exactly those of the sampled geometry. The second derivatives are exact where the source
 //! has them (a tabulated file: its C² spline's; the closed-form cone: zero), else central
 //! differences of the exact node slopes (error $h^2 f^{(4)}/6$; exact for cubics, so the cone
