@@ -227,6 +227,10 @@ pub struct GeometryReport {
     pub jumps: Vec<crate::contact::table::Jump>,
     /// nodes (y, m) where the lateral curvature was held inside Kalker's a/b range
     pub clamped: Vec<f64>,
+    /// half-width of the range where the table is genuine geometry (m); `None`: everywhere
+    pub valid_half_width_m: Option<f64>,
+    /// the study's `contact.extrapolate`
+    pub extrapolate: crate::contact::table::Extrapolation,
 }
 
 /// The geometry table of a model.
@@ -238,5 +242,7 @@ pub fn geometry(plan: &Plan, model: &Vehicle) -> GeometryReport {
         centre_conicity: model.centre_conicity(),
         jumps: table.jumps().to_vec(),
         clamped: table.clamped.clone(),
+        valid_half_width_m: table.valid_half_width(),
+        extrapolate: plan.contact.extrapolate,
     }
 }

@@ -241,6 +241,7 @@ fn report() -> String {
     en15302_section(&mut s);
     dtu_section(&mut s);
     table_sections::table_geometry_section(&mut s);
+    table_sections::contact_table_section(&mut s);
     table_sections::dtu_wheelset_section(&mut s);
     profiles_section::section(&mut s);
     auto07p_section::section(&mut s);

@@ -139,8 +139,28 @@ pub fn geometry(g: &GeometryReport) -> String {
             c.creep.f11, c.creep.f22, c.creep.f23, c.creep.f33
         );
     }
+    let _ = writeln!(s, "  {}", valid_range(g.valid_half_width_m, g.extrapolate));
     geometry_events(&mut s, g);
     s
+}
+
+/// Where the contact table is genuine geometry, and what the analyses do beyond it.
+fn valid_range(
+    half_width: Option<f64>,
+    extrapolate: crate::contact::table::Extrapolation,
+) -> String {
+    match half_width {
+        None => "valid range: every y (the linear extension beyond the table is exact)".into(),
+        Some(w) => format!(
+            "valid range: |y| <= {:.4} mm; beyond it the table is extended linearly (contact.extrapolate = \"{}\": {})",
+            w * 1e3,
+            extrapolate.name(),
+            match extrapolate {
+                crate::contact::table::Extrapolation::None => "results stop at the range",
+                crate::contact::table::Extrapolation::Linear => "results beyond it are kept",
+            }
+        ),
+    }
 }
 
 /// Contact-point jumps and Kalker-range clamps of a profile geometry.
@@ -285,6 +305,7 @@ pub fn plan(p: &Plan) -> String {
     }
     line("contact.lateral_range", format!("{} m", c.lateral_range));
     line("contact.table_points", format!("{}", c.table_points));
+    line("contact.extrapolate", c.extrapolate.name().into());
     match &p.flange {
         Some(f) => {
             line("flange.clearance", format!("{} m", f.clearance));
@@ -420,10 +441,22 @@ pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> String {
     s
 }
 
-/// The assembled vehicle for `critspeed check`: bodies with their coordinates in state order,
-/// then every element with its attachment points (SI).
+/// The assembled model for `critspeed check`: the contact table's range and where it is
+/// genuine, the bodies with their coordinates in state order, then every element with its
+/// attachment points (SI).
 pub fn vehicle(v: &crate::model::Vehicle) -> String {
     let mut s = String::new();
+    let table = &v.contact.table;
+    let _ = writeln!(
+        s,
+        "contact table: y in [-{0:.4}, {0:.4}] mm, {1}",
+        table.half_width() * 1e3,
+        table
+            .valid_half_width()
+            .map_or("genuine everywhere (exact linear extension)".into(), |w| {
+                format!("genuine for |y| <= {:.4} mm", w * 1e3)
+            })
+    );
     let _ = writeln!(
         s,
         "vehicle: {} ({} states: the coordinates below, then their rates in the same order)",

@@ -1,22 +1,34 @@
-//! The contact state of the right wheel tabulated against `y` and interpolated C¹.
+//! The contact state of the right wheel tabulated against `y` and interpolated C².
 //!
-//! Every geometry (closed form or rigid-contact solve) is sampled once on a uniform grid
-//! `y_k = −Y + k·h` with its value **and exact slope** at each node; between nodes a cubic
-//! Hermite interpolant is used, so values and first derivatives are continuous (docs/model.md §3
-//! asks for at least C¹) and the slope at a node is the exact one. Cubic Hermite reproduces
-//! polynomials up to degree three, so the closed-form cone is reproduced to rounding. Beyond
-//! the tabulated range the state is extended linearly with the end slope (still C¹); the
-//! range is chosen by the study so that the motion stays inside it.
+//! Every geometry (closed form, tabulated file or rigid contact of profiles) is sampled once
+//! on a uniform grid `y_k = −Y + k·h` with, at each node, its value, its **exact slope** and a
+//! second derivative; between nodes a quintic Hermite interpolant is used (module `quintic`),
+//! so value, slope and second derivative are continuous. The Jacobian of the equations of
+//! motion is then continuous along an orbit (with a C¹ table it jumps at every node, where the
+//! integrator's error estimate is not valid: on S1002 a third of the trial steps then fail).
+//! Values and slopes at the nodes are
+//! exactly those of the sampled geometry. The second derivatives are exact where the source
+//! has them (a tabulated file: its C² spline's; the closed-form cone: zero), else central
+//! differences of the exact node slopes (error $h^2 f^{(4)}/6$; exact for cubics, so the cone
+//! and any cubic column are reproduced to rounding). Beyond the tabulated range the state is
+//! extended linearly with the end slope (C¹ there); where that extension is not the geometry
+//! itself, [`ContactTable::valid_half_width`] says how far the table is genuine, and the
+//! study's `contact.extrapolate` ([`Extrapolation`]) whether analyses may go beyond it.
 //!
 //! The same table carries the Hertz semi-axes and, when the study does not give them, the
 //! creep coefficients at each contact state (docs/model.md §4–5: the normal force and the curvatures
 //! change with `y`).
 
-use crate::contact::geometry::{ContactPoint, Geometry, GeometryError, Nominal};
-use crate::contact::hertz::{hertz_patch, HertzError};
-use crate::contact::kalker::{creep_coefficients, CreepCoefficients, KalkerError};
-use crate::contact::tabulated::TabulatedGeometry;
-use crate::system::scalar::{Dual, Scalar};
+mod build;
+mod quintic;
+
+pub(super) use build::march;
+
+use crate::contact::geometry::{ContactPoint, GeometryError, Nominal};
+use crate::contact::hertz::HertzError;
+use crate::contact::kalker::{CreepCoefficients, KalkerError};
+use crate::system::scalar::Scalar;
+use quintic::{Locus, Quintic};
 
 /// Column indices of the table.
 const RADIUS: usize = 0;
@@ -26,6 +38,84 @@ const SEMI_A: usize = 3;
 const SEMI_B: usize = 4;
 const F11: usize = 5;
 const COLUMNS: usize = 9;
+
+/// A column of the contact table (the right wheel's contact state).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Column {
+    /// rolling radius r_R (m)
+    Radius,
+    /// contact angle δ_R (rad)
+    Angle,
+    /// wheelset roll φ (rad)
+    Roll,
+    /// Hertz semi-axis a, rolling direction (m; 0 without a patch)
+    SemiA,
+    /// Hertz semi-axis b, lateral (m; 0 without a patch)
+    SemiB,
+    /// creep coefficient f11 (N)
+    F11,
+    /// creep coefficient f22 (N)
+    F22,
+    /// creep coefficient f23 (N m)
+    F23,
+    /// creep coefficient f33 (N m²)
+    F33,
+}
+
+impl Column {
+    /// Every column, in the table's order.
+    pub const ALL: [Column; COLUMNS] = [
+        Column::Radius,
+        Column::Angle,
+        Column::Roll,
+        Column::SemiA,
+        Column::SemiB,
+        Column::F11,
+        Column::F22,
+        Column::F23,
+        Column::F33,
+    ];
+
+    fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// What the analyses may do where the contact table is not genuine geometry (beyond
+/// [`ContactTable::valid_half_width`]): the study key `contact.extrapolate`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Extrapolation {
+    /// `"none"` (default): a branch, attractor or simulation that leaves the valid range is
+    /// cut there and reported as such; no critical speed is derived from extrapolated
+    /// geometry.
+    #[default]
+    None,
+    /// `"linear"`: the table's linear extension beyond its range is used as if it were
+    /// geometry; results that rely on it are kept (and must say so).
+    Linear,
+}
+
+impl Extrapolation {
+    /// The accepted study values, for messages.
+    pub const ALLOWED: &'static str = "\"none\", \"linear\"";
+
+    /// The study value.
+    pub fn name(self) -> &'static str {
+        match self {
+            Extrapolation::None => "none",
+            Extrapolation::Linear => "linear",
+        }
+    }
+
+    /// The mode of a study value, `None` when it is not one of [`Self::ALLOWED`].
+    pub fn parse(text: &str) -> Option<Self> {
+        match text {
+            "none" => Some(Extrapolation::None),
+            "linear" => Some(Extrapolation::Linear),
+            _ => None,
+        }
+    }
+}
 
 /// Elastic constants of wheel and rail steel (identical bodies).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -104,14 +194,18 @@ pub struct Row {
 pub struct ContactTable {
     y0: f64,
     h: f64,
-    /// values and slopes, `[node][column]`
+    /// node values and second derivatives, `[node][column]` (the slopes are in `interp`)
     value: Vec<[f64; COLUMNS]>,
-    slope: Vec<[f64; COLUMNS]>,
+    curvature: Vec<[f64; COLUMNS]>,
+    /// the C² interpolant of the node data
+    interp: Quintic<COLUMNS>,
     has_patch: bool,
     /// raw wheel contact offset at each node (m), NaN when not tracked
     offsets: Vec<f64>,
     /// contact-point jumps found while tabulating
     jumps: Vec<Jump>,
+    /// half-width of the genuine geometry (m); `None`: the linear extension is exact
+    valid: Option<f64>,
     /// nodes (y, m) where the lateral curvature B was held inside Kalker's a/b range
     pub clamped: Vec<f64>,
 }
@@ -127,13 +221,6 @@ pub struct Jump {
     pub radius_m: (f64, f64),
 }
 
-/// Where `y` falls in the table, with the Hermite weights.
-#[derive(Clone, Copy, Debug)]
-enum Basis {
-    Inside { k: usize, w: [f64; 4], dw: [f64; 4] },
-    Outside { node: usize, d: f64 },
-}
-
 /// The interpolated contact state of one wheel.
 #[derive(Clone, Copy, Debug)]
 pub struct WheelState<T> {
@@ -146,70 +233,6 @@ pub struct WheelState<T> {
 }
 
 impl ContactTable {
-    /// Samples `geometry` on the grid of `spec`.
-    pub fn build(geometry: &Geometry, spec: &TableSpec) -> Result<Self, TableError> {
-        if let Geometry::Profiles { pair, smoothing } = geometry {
-            return super::profile_table::build(pair, *smoothing, spec);
-        }
-        let lateral = spec
-            .rail_head_radius
-            .or_else(|| geometry.rail_transverse_curvature().map(|k| 1.0 / k))
-            .map(|r| Dual::cst(1.0 / r));
-        let tabulated = match geometry {
-            Geometry::Table(t) => Some(t.as_ref()),
-            _ => None,
-        };
-        let n = spec.nodes.max(5) | 1;
-        let half = (n - 1) / 2;
-        let h = spec.half_width / half as f64;
-        let nodes = march(half, h, |y, guess| {
-            let (point, u) = geometry.solve(spec.nominal, y, guess)?;
-            Ok::<_, TableError>((node_columns(point, tabulated, lateral, spec, y)?, u))
-        })?;
-        // the patch is there for every node or for none
-        let has_patch = nodes.first().is_some_and(|c| c.1);
-        Ok(Self {
-            y0: -(half as f64) * h,
-            h,
-            value: nodes.iter().map(|c| c.0.map(|d| d.re)).collect(),
-            slope: nodes.iter().map(|c| c.0.map(|d| d.eps[0])).collect(),
-            has_patch,
-            offsets: vec![f64::NAN; n],
-            jumps: Vec::new(),
-            clamped: Vec::new(),
-        })
-    }
-
-    /// Assembles a table from node states (uniform grid from `y0` with step `h`): the
-    /// geometry as duals (value, d/dy) and the lateral relative curvature B (1/m).
-    pub(crate) fn assemble(
-        spec: &TableSpec,
-        (y0, h): (f64, f64),
-        nodes: &[(ContactPoint<Dual<1>>, Dual<1>)],
-        offsets: Vec<f64>,
-        jumps: Vec<Jump>,
-    ) -> Result<Self, TableError> {
-        let mut value = Vec::with_capacity(nodes.len());
-        let mut slope = Vec::with_capacity(nodes.len());
-        let mut has_patch = false;
-        for (k, &(p, b)) in nodes.iter().enumerate() {
-            let (cols, patch) = node_columns(p, None, Some(b), spec, y0 + k as f64 * h)?;
-            has_patch = patch;
-            value.push(cols.map(|d| d.re));
-            slope.push(cols.map(|d| d.eps[0]));
-        }
-        Ok(Self {
-            y0,
-            h,
-            value,
-            slope,
-            has_patch,
-            offsets,
-            jumps,
-            clamped: Vec::new(),
-        })
-    }
-
     /// Contact-point jumps found while tabulating (profiles only).
     pub fn jumps(&self) -> &[Jump] {
         &self.jumps
@@ -262,83 +285,25 @@ impl ContactTable {
             .collect()
     }
 
-    /// The cell and cubic Hermite basis at `y` (value and d/dy weights for p0, m0, p1, m1),
-    /// or the end node for the linear extension beyond the table.
-    #[inline]
-    fn basis(&self, y: f64) -> Basis {
-        let n = self.value.len();
-        let s = (y - self.y0) / self.h;
-        if s.is_nan() || s < 0.0 {
-            // below the table (or NaN): linear extension of the first node
-            return Basis::Outside {
-                node: 0,
-                d: y - self.y0,
-            };
-        }
-        if s >= (n - 1) as f64 {
-            let d = y - (self.y0 + (n - 1) as f64 * self.h);
-            return Basis::Outside { node: n - 1, d };
-        }
-        let k = (s as usize).min(n - 2);
-        let t = s - k as f64;
-        let (t2, t3) = (t * t, t * t * t);
-        let h = self.h;
-        Basis::Inside {
-            k,
-            w: [
-                2.0 * t3 - 3.0 * t2 + 1.0,
-                (t3 - 2.0 * t2 + t) * h,
-                -2.0 * t3 + 3.0 * t2,
-                (t3 - t2) * h,
-            ],
-            dw: [
-                (6.0 * t2 - 6.0 * t) / h,
-                3.0 * t2 - 4.0 * t + 1.0,
-                (-6.0 * t2 + 6.0 * t) / h,
-                3.0 * t2 - 2.0 * t,
-            ],
-        }
-    }
-
-    /// Column `c` (value, slope) with a precomputed basis. Always inlined: as a call (which
-    /// `#[inline]` left it) it was a fifth of the cone branch's instructions, and inlined the
-    /// slope the `f64` evaluation discards is not computed (bitwise the same results).
+    /// Column `c` at a located `y` as a scalar of `y`'s type (value and slope).
     #[inline(always)]
-    fn apply(&self, b: &Basis, c: usize) -> (f64, f64) {
-        match *b {
-            Basis::Outside { node, d } => (
-                self.value[node][c] + self.slope[node][c] * d,
-                self.slope[node][c],
-            ),
-            Basis::Inside { k, w, dw } => {
-                let (p0, p1) = (self.value[k][c], self.value[k + 1][c]);
-                let (m0, m1) = (self.slope[k][c], self.slope[k + 1][c]);
-                (
-                    w[0] * p0 + w[1] * m0 + w[2] * p1 + w[3] * m1,
-                    dw[0] * p0 + dw[1] * m0 + dw[2] * p1 + dw[3] * m1,
-                )
-            }
-        }
-    }
-
-    #[inline]
-    fn column<T: Scalar>(&self, b: &Basis, c: usize, y: T) -> T {
-        let (v, d) = self.apply(b, c);
+    fn column<T: Scalar>(&self, at: &Locus, c: usize, y: T) -> T {
+        let (v, d) = self.interp.eval(at, c);
         y.lift(v, d)
     }
 
     /// The right wheel's state at displacement `y`.
     #[inline]
     pub fn right<T: Scalar>(&self, y: T) -> WheelState<T> {
-        let b = self.basis(y.re());
+        let at = self.interp.locate(y.re());
         WheelState {
-            radius: self.column(&b, RADIUS, y),
-            angle: self.column(&b, ANGLE, y),
+            radius: self.column(&at, RADIUS, y),
+            angle: self.column(&at, ANGLE, y),
             creep: CreepCoefficients {
-                f11: self.column(&b, F11, y),
-                f22: self.column(&b, F11 + 1, y),
-                f23: self.column(&b, F11 + 2, y),
-                f33: self.column(&b, F11 + 3, y),
+                f11: self.column(&at, F11, y),
+                f22: self.column(&at, F11 + 1, y),
+                f23: self.column(&at, F11 + 2, y),
+                f33: self.column(&at, F11 + 3, y),
             },
         }
     }
@@ -351,99 +316,38 @@ impl ContactTable {
 
     /// Roll angle φ(y) (rad).
     pub fn roll<T: Scalar>(&self, y: T) -> T {
-        let b = self.basis(y.re());
-        self.column(&b, ROLL, y)
+        let at = self.interp.locate(y.re());
+        self.column(&at, ROLL, y)
     }
-}
 
-/// The table columns at one node, as one-direction duals (value and d/dy).
-/// `lateral` is B (1/m): 1/R_rail for a cone (straight transversally), or the profiles'
-/// κ_wheel + κ_rail; `None`: no Hertz patch.
-/// Solves the nodes $y_k = k h$, $k = −$`half` … `half`, marching outwards from the centre in
-/// both directions with each solve seeded by the previous one's `G`, and returns them in the
-/// order of y. The two directions are independent, so they run on two rayon threads (the same
-/// nodes as in series, bitwise); an error of the positive side is reported first.
-pub(super) fn march<T: Send, G, E: Send>(
-    half: usize,
-    h: f64,
-    node: impl Fn(f64, Option<G>) -> Result<(T, G), E> + Sync,
-) -> Result<Vec<T>, E> {
-    let side = |dir: f64| -> Result<Vec<T>, E> {
-        let mut guess = None;
-        let mut out = Vec::with_capacity(half + 1);
-        for k in 0..=half {
-            let (t, g) = node(dir * k as f64 * h, guess)?;
-            guess = Some(g);
-            out.push(t);
-        }
-        Ok(out)
-    };
-    let (right, left) = rayon::join(|| side(1.0), || side(-1.0));
-    let right = right?;
-    // −half … 0 from the negative side (its y = −0 node, as the serial loop kept), then 1 … half
-    Ok(left?
-        .into_iter()
-        .rev()
-        .chain(right.into_iter().skip(1))
-        .collect())
-}
-
-fn node_columns(
-    p: ContactPoint<Dual<1>>,
-    tabulated: Option<&TabulatedGeometry>,
-    lateral: Option<Dual<1>>,
-    spec: &TableSpec,
-    y: f64,
-) -> Result<([Dual<1>; COLUMNS], bool), TableError> {
-    let zero = Dual::cst(0.0);
-    // docs/model.md §4: N = (W/2)/cos δ
-    let normal = p.angle.cos().recip() * (spec.axle_load / 2.0);
-    if let Some((column, value)) = tabulated.and_then(|t| t.non_positive_at(y)) {
-        return Err(TableError::NonPositive {
-            table: tabulated.map_or_else(String::new, |t| t.source.clone()),
-            y_m: y,
-            column,
-            value,
-        });
+    /// Column `column` at `y` (m): value, first and second derivative with respect to y (the
+    /// interpolant's; zero second derivative on the linear extension).
+    pub fn derivatives(&self, column: Column, y: f64) -> [f64; 3] {
+        self.interp.eval2(y, column.index())
     }
-    let patch = match (tabulated.and_then(|t| t.semi_axes(y, normal)), lateral) {
-        (Some(ab), _) => Some(ab),
-        // A = 1/r (rolling), B as given
-        (None, Some(lateral)) => {
-            let patch = hertz_patch(
-                normal,
-                p.radius.recip(),
-                lateral,
-                spec.elastic.young_modulus,
-                spec.elastic.poisson_ratio,
-            )
-            .map_err(|source| TableError::Hertz { y_m: y, source })?;
-            Some((patch.a, patch.b))
-        }
-        (None, None) => None,
-    };
-    let creep = match (spec.creep, patch) {
-        (CreepSource::Given(c), _) => CreepCoefficients {
-            f11: Dual::cst(c.f11),
-            f22: Dual::cst(c.f22),
-            f23: Dual::cst(c.f23),
-            f33: Dual::cst(c.f33),
-        },
-        (CreepSource::Hertz, Some((a, b))) => {
-            let (g, nu) = (spec.elastic.shear_modulus, spec.elastic.poisson_ratio);
-            // the table's own Kalker coefficients when it has them, else Kalker's table
-            tabulated
-                .and_then(|t| t.creep(y, a, b, g, nu))
-                .unwrap_or_else(|| creep_coefficients(a, b, g, nu))
-                .map_err(|source| TableError::Kalker { y_m: y, source })?
-        }
-        (CreepSource::Hertz, None) => return Err(TableError::NoCreepCoefficients),
-    };
-    let (a, b) = patch.unwrap_or((zero, zero));
-    Ok((
-        [
-            p.radius, p.angle, p.roll, a, b, creep.f11, creep.f22, creep.f23, creep.f33,
-        ],
-        patch.is_some(),
-    ))
+
+    /// The second derivative of `column` at every node, as (y m, value): the data of the C²
+    /// interpolant (exact, or central differences of the exact slopes; see the module docs).
+    pub fn node_second_derivatives(&self, column: Column) -> Vec<(f64, f64)> {
+        let c = column.index();
+        (0..self.curvature.len())
+            .map(|k| (self.y0 + k as f64 * self.h, self.curvature[k][c]))
+            .collect()
+    }
+
+    /// The half-width (m) of the range of y where the table is genuine geometry: the
+    /// geometry was computed there (a profile pair's rigid solve, a cone-on-arc solve) or
+    /// read there (a tabulated file; the study's `lateral_range` never exceeds the file's
+    /// range). Beyond it every column is extended linearly with its end slope, which is a
+    /// guess. `None` where that extension is exact: the cone on knife-edge rails with given
+    /// creep coefficients, whose every column is linear (r, δ, φ) or constant (f11 … f33).
+    pub fn valid_half_width(&self) -> Option<f64> {
+        self.valid
+    }
+
+    /// Whether `y` (m) lies where the table is genuine ([`Self::valid_half_width`]); NaN is
+    /// not.
+    pub fn is_valid_at(&self, y: f64) -> bool {
+        self.valid.map_or(!y.is_nan(), |w| y.abs() <= w)
+    }
 }

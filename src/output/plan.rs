@@ -60,6 +60,7 @@ fn contact_json(p: &Plan) -> Value {
     put("shear_modulus", json!(c.elastic.shear_modulus));
     put("lateral_range", json!(c.lateral_range));
     put("table_points", json!(c.table_points));
+    put("extrapolate", json!(c.extrapolate.name()));
     if let CreepSource::Given(k) = c.creep {
         put(
             "creep_coefficients",

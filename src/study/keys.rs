@@ -376,6 +376,7 @@ mod tests {
             "contact.geometry",
             "contact.creep_coefficients",
             "contact.creep_coefficients.f33",
+            "contact.extrapolate",
             "flange.clearance",
             "linear.speed_range",
             "bifurcation.max_points",

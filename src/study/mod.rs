@@ -19,7 +19,9 @@ use crate::bifurcation::BifurcationOptions;
 use crate::contact::creep::CreepLaw;
 use crate::contact::geometry::{Geometry, Nominal};
 use crate::contact::kalker::CreepCoefficients;
-use crate::contact::table::{ContactTable, CreepSource, Elastic, TableError, TableSpec};
+use crate::contact::table::{
+    ContactTable, CreepSource, Elastic, Extrapolation, TableError, TableSpec,
+};
 use crate::model::{
     layouts, Flange, PrimaryVertical, Suspension, Vehicle, VehicleSpec, Wheelset, WheelsetParams,
 };
@@ -94,17 +96,29 @@ pub struct ContactPlan {
     pub lateral_range: f64,
     /// geometry table nodes
     pub table_points: usize,
+    /// what the analyses may do beyond the table's valid range (default: cut there)
+    pub extrapolate: Extrapolation,
 }
 
 impl ContactPlan {
     /// The half-width (m) of the lateral range where the contact geometry is genuine: the
     /// tabulated range of a table, a profile solve or a cone on a circular rail head, beyond
     /// which the table is extended linearly; `None` for the cone on knife-edge rails, whose
-    /// linear extension is exact.
+    /// linear extension is exact. This is the limit the analyses cut branches and attractors
+    /// at ([`Self::analysis_limit`]).
     pub fn valid_half_width(&self) -> Option<f64> {
         match self.geometry {
             Geometry::Cone { .. } => None,
             _ => Some(self.lateral_range),
+        }
+    }
+
+    /// The half-width (m) where the analyses cut a branch or an attractor: the valid range,
+    /// unless the study asks for extrapolation (`contact.extrapolate = "linear"`).
+    pub fn analysis_limit(&self) -> Option<f64> {
+        match self.extrapolate {
+            Extrapolation::Linear => None,
+            Extrapolation::None => self.valid_half_width(),
         }
     }
 }
@@ -323,7 +337,7 @@ pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyErr
         .map(|b| bifurcation_plan(b, linear.speed_range))
         .transpose()?
         .map(|b| BifurcationOptions {
-            geometry_limit: contact.valid_half_width(),
+            geometry_limit: contact.analysis_limit(),
             ..b
         });
     let bifurcation_range = bifurcation
@@ -332,7 +346,7 @@ pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyErr
     let attractors = f
         .attractors
         .as_ref()
-        .map(|a| attractors::plan(a, bifurcation_range, contact.valid_half_width()))
+        .map(|a| attractors::plan(a, bifurcation_range, contact.analysis_limit()))
         .transpose()?;
     Ok(Plan {
         name: f.name,
@@ -593,6 +607,14 @@ fn contact_plan(
             rule: "must lie in [5, 100001]".into(),
         });
     }
+    let extrapolate = match c.extrapolate.as_deref() {
+        None => Extrapolation::default(),
+        Some(text) => Extrapolation::parse(text).ok_or_else(|| StudyError::Choice {
+            key: "contact.extrapolate".into(),
+            value: text.into(),
+            allowed: Extrapolation::ALLOWED,
+        })?,
+    };
     Ok(ContactPlan {
         geometry,
         creep_law,
@@ -606,6 +628,7 @@ fn contact_plan(
         creep,
         lateral_range,
         table_points,
+        extrapolate,
     })
 }
 
@@ -669,7 +692,7 @@ impl Plan {
         self.bifurcation
             .clone()
             .unwrap_or_else(|| BifurcationOptions {
-                geometry_limit: self.contact.valid_half_width(),
+                geometry_limit: self.contact.analysis_limit(),
                 ..BifurcationOptions::new(self.linear.speed_range)
             })
     }

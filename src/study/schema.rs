@@ -208,6 +208,9 @@ pub struct ContactSection {
     /// nodes of the geometry table
     #[serde(default)]
     pub table_points: Option<usize>,
+    /// beyond the table's valid range: "none" (default: cut there) or "linear"
+    #[serde(default)]
+    pub extrapolate: Option<String>,
     #[serde(default)]
     pub creep_coefficients: Option<CreepCoefficientsSection>,
 }

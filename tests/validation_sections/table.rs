@@ -7,7 +7,7 @@ use critspeed::bifurcation::analyse;
 use critspeed::contact::creep::CreepLaw;
 use critspeed::contact::geometry::Geometry;
 use critspeed::contact::kalker::CreepCoefficients;
-use critspeed::contact::table::{ContactTable, CreepSource};
+use critspeed::contact::table::{Column, ContactTable, CreepSource};
 use critspeed::continuation::SpecialKind;
 use critspeed::stability::{critical_speeds, LinearSystem};
 use critspeed::study;
@@ -136,4 +136,118 @@ pub fn dtu_wheelset_section(s: &mut String) {
     );
     let _ = writeln!(s, "\nThe primary springs (1.823 and 3.646 MN/m per side, DYTSI's Cooperrider values) tie the wheelset to a fixed frame, so the hunting speed is far above the bogie's; the hunting wavelength at V_L is the kinematic one to {:.1} %. The branch is supercritical at V_H, folds back at the first fold and regains stability only in a sliver between the two close folds near 120.7 m/s, in the tread region where the table's contact angle is irregular; so the nonlinear critical speed (docs/model.md §9: the lowest speed at which a stable cycle exists) is the lower fold of that sliver, far below V_H; how much of it is physics and how much the table's irregular contact angle is open. Model differences a comparison would have to account for: DYTSI's wheelset has roll and vertical freedoms with elastic (penetration-based) normal forces and no spin moment M_z; critspeed uses quasi-static N = (W/2)/cos δ and Kalker's spin moment with C33 from Kalker's table.\n",
         100.0 * (vl.wavelength_m / model.klingel_wavelength() - 1.0));
+}
+
+/// δ_R and dδ_R/dy of the geometry at every y of `ys` (increasing), solved marching outwards
+/// from the centre on each side as the contact table does.
+fn angles(plan: &study::Plan, ys: &[f64]) -> Vec<(f64, f64)> {
+    let (g, n) = (&plan.contact.geometry, plan.table_spec().nominal);
+    let mid = ys.partition_point(|&y| y < 0.0);
+    let mut out = vec![(f64::NAN, f64::NAN); ys.len()];
+    let sides = [
+        ((mid..ys.len()).collect::<Vec<_>>(), 0.0),
+        ((0..mid).rev().collect(), -0.0),
+    ];
+    for (order, start) in sides {
+        let (_, mut guess) = g.solve(n, start, None).expect("solves");
+        for k in order {
+            let (p, u) = g.solve(n, ys[k], Some(guess)).expect("solves");
+            guess = u;
+            out[k] = (p.angle.re, p.angle.eps[0]);
+        }
+    }
+    out
+}
+
+/// The C² contact table between and at its nodes, on the three kinds of sampled geometry.
+pub fn contact_table_section(s: &mut String) {
+    let _ = writeln!(s, "### The contact table between its nodes\n");
+    let _ = writeln!(s, "Every geometry is sampled once onto the contact table's uniform grid (`contact.table_points` nodes over ±`lateral_range`) with its value and exact slope at each node, and a second derivative: the spline's own for a tabulated file (r_R, δ_R, φ; the Hertz and creep columns derived from them by central differences of their exact slopes), central differences of the exact node slopes for the cone-on-arc and profile solves (error h² f''''/6). Between the nodes a quintic Hermite polynomial matches all three at both ends, so the table is C²: the integrator's error estimate stays valid along an orbit (with a C¹ table the second derivative jumps at every node, which on S1002 cost a third of the integrator's trial steps). Measured on δ_R, the column with the largest second derivative:\n");
+    let _ = writeln!(s, "| geometry | nodes (spacing) | largest jump of d²δ_R/dy² across a node, relative | d²δ_R/dy² at the nodes against the geometry, relative | largest \\|δ_R error\\| at the cell midpoints | same with half the spacing |\n|---|---|---|---|---|---|");
+    // (label, study, the |y| window compared); profiles are compared unsmoothed
+    let tread = Some((1e-3, 4.5e-3));
+    let cases = [
+        ("cone-on-arc (seed-hunting)", "seed-hunting.toml", None),
+        (
+            "S1002/UIC60 1:40, unsmoothed (tread: \\|y\\| in [1, 4.5] mm)",
+            "s1002-uic60.toml",
+            tread,
+        ),
+        (
+            "DTU RSGEO file (dtu-rsgeo-wheelset)",
+            "dtu-rsgeo-wheelset.toml",
+            None,
+        ),
+    ];
+    for (label, file, window) in cases {
+        let mut plan = study::load(&super::root().join("studies").join(file)).expect("study");
+        if let Geometry::Profiles { smoothing, .. } = &mut plan.contact.geometry {
+            *smoothing = 0.0;
+        }
+        let spec = plan.table_spec();
+        let mut mid_errors = Vec::new();
+        let mut row = (0.0f64, 0.0f64, 0, 0.0);
+        for (i, count) in [spec.nodes, 2 * spec.nodes - 1].into_iter().enumerate() {
+            let mut sp = spec;
+            sp.nodes = count;
+            let t = ContactTable::build(&plan.contact.geometry, &sp).expect("table");
+            let nodes: Vec<(f64, f64)> = t.node_second_derivatives(Column::Angle);
+            let h = nodes[1].0 - nodes[0].0;
+            let inside = |y: f64| window.is_none_or(|(a, b)| (a..=b).contains(&y.abs()));
+            let mids: Vec<f64> = nodes[..nodes.len() - 1]
+                .iter()
+                .map(|n| n.0 + 0.5 * h)
+                .filter(|&y| inside(y))
+                .collect();
+            let exact: Vec<f64> = match &plan.contact.geometry {
+                Geometry::Table(tab) => mids.iter().map(|&y| tab.point(y).angle.re).collect(),
+                _ => angles(&plan, &mids).iter().map(|p| p.0).collect(),
+            };
+            let err = mids
+                .iter()
+                .zip(&exact)
+                .map(|(&y, e)| (t.derivatives(Column::Angle, y)[0] - e).abs())
+                .fold(0.0, f64::max);
+            mid_errors.push(err);
+            if i > 0 {
+                continue;
+            }
+            let scale = nodes.iter().map(|n| n.1.abs()).fold(0.0, f64::max);
+            let mut jump = 0.0f64;
+            for &(y, _) in &nodes[1..nodes.len() - 1] {
+                let e = 1e-9 * h;
+                jump = jump.max(
+                    (t.derivatives(Column::Angle, y - e)[2]
+                        - t.derivatives(Column::Angle, y + e)[2])
+                        .abs(),
+                );
+            }
+            // the second derivative at the nodes against central differences of the geometry's
+            // exact slopes over ±1 µm (for the file: the spline's own, exact by construction)
+            let mut node_err = 0.0f64;
+            if !matches!(plan.contact.geometry, Geometry::Table(_)) {
+                for &(y, c) in nodes.iter().filter(|n| inside(n.0)).step_by(5) {
+                    let side = angles(&plan, &[y - 1e-6, y + 1e-6]);
+                    let fd = (side[1].1 - side[0].1) / 2e-6;
+                    node_err = node_err.max((c - fd).abs() / scale);
+                }
+            }
+            row = (jump / scale, node_err, count, h);
+        }
+        let node = if matches!(plan.contact.geometry, Geometry::Table(_)) {
+            "exact (the spline's)".to_string()
+        } else {
+            format!("{:.1e}", row.1)
+        };
+        let _ = writeln!(
+            s,
+            "| {label} | {} ({:.1} µm) | {:.1e} | {node} | {:.2e} rad | {:.2e} rad |",
+            row.2,
+            row.3 * 1e6,
+            row.0,
+            mid_errors[0],
+            mid_errors[1]
+        );
+    }
+    let _ = writeln!(s, "\nRelative figures are against the column's largest second derivative at the nodes. The jumps are those of approaching each node from 1e-9 h on either side (rounding and the third derivative over that distance); a C¹ table's are of the order of the second derivative itself near S1002's contact jumps. Values and slopes at the nodes are the geometry's own (`tests/contact_table.rs` checks them to a few ulps). The cone-on-arc is nearly linear, so its midpoint error is rounding at any spacing. The profiles are natural cubic splines of their point lists, only C² themselves, so the midpoint error falls by 3 to 8 per halving of the spacing rather than 16. The file's spline is cubic between its rows, 0.5 mm apart: the table reproduces it to rounding wherever a cell holds no row, so the error sits in the cells that contain a row, and with 801 nodes over ±8 mm (20 µm) every row is a node and the table is the spline. Section 8's cone and cubic are reproduced exactly by any of these interpolants, so its last digits depend on the interpolation only through rounding.\n");
 }

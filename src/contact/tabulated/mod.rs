@@ -32,7 +32,8 @@
 //! # Interpolation
 //!
 //! Each column gets a not-a-knot cubic spline ([`CubicSpline`]): C², the data reproduced at the
-//! nodes, cubics reproduced exactly, and exact slopes for the contact table's Hermite sampling.
+//! nodes, cubics reproduced exactly, and exact slopes and second derivatives for the contact
+//! table's C² sampling.
 //! When the file gives a, b and the normal force N_file, the semi-axes are scaled to the
 //! model's normal force N = (W/2)/cos δ (docs/model.md §4) by Hertz's $a ∝ N^{1/3}$ at fixed
 //! curvatures, so the axle load of the study is respected.
@@ -208,6 +209,12 @@ impl TabulatedGeometry {
             // the contact point's position on the wheel is not tabulated
             wheel_offset: Dual::cst(f64::NAN),
         }
+    }
+
+    /// The splines' second derivatives of r_R, δ_R and φ at `y` (1/m, rad/m², rad/m²):
+    /// exact data for the contact table's C² interpolant.
+    pub fn second_derivatives(&self, y: f64) -> [f64; 3] {
+        [&self.radius, &self.angle, &self.roll].map(|s| s.eval(y).2)
     }
 
     /// The first interpolated contact quantity at `y` that is not positive (a spline through
