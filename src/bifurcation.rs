@@ -144,6 +144,9 @@ pub struct BifurcationReport {
     pub hopf: Option<Crossing>,
     /// its type, from the branch's initial direction
     pub hopf_type: Option<HopfType>,
+    /// the first Lyapunov coefficient at the Hopf point (MODEL §12), whose sign decides the
+    /// type independently of the branch ([`crate::stability::first_lyapunov`])
+    pub first_lyapunov: Option<crate::stability::Lyapunov>,
     /// lowest speed with a stable cycle (m/s), and whether it was located (a located fold or
     /// the supercritical Hopf point) or is only the lowest stable computed cycle
     pub nonlinear_critical_speed: Option<(f64, bool)>,
@@ -345,6 +348,7 @@ fn analyse_states<const N: usize>(
         kalker_critical_speed_m_s,
         hopf: None,
         hopf_type: None,
+        first_lyapunov: None,
         nonlinear_critical_speed: None,
         cycles: Vec::new(),
         special: Vec::new(),
@@ -366,6 +370,9 @@ fn analyse_states<const N: usize>(
     };
     report.hopf = Some(hopf);
     let omega = 2.0 * std::f64::consts::PI * hopf.frequency_hz;
+    report.first_lyapunov =
+        crate::stability::first_lyapunov::<N, _>(model, hopf.speed_m_s, omega, &Default::default())
+            .ok();
     let a_ref = 1e-3;
     // each coordinate scaled by its share of the Hopf eigenvector (the leading wheelset's y is
     // 1): 1 mm of lateral amplitude ≈ 1 m/s of speed in the arclength
@@ -603,6 +610,7 @@ mod tests {
             kalker_critical_speed_m_s: Some(100.0),
             hopf: Some(hopf),
             hopf_type: Some(HopfType::Supercritical),
+            first_lyapunov: None,
             nonlinear_critical_speed: None,
             cycles: vec![cycle(100.5, true), cycle(110.0, true), cycle(95.0, false)],
             special: vec![fold(110.2)],
