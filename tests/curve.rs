@@ -15,6 +15,13 @@ use critspeed::stability::{HopfKind, LinearSystem};
 mod common;
 use common::{critspeed, root, scratch};
 
+#[allow(dead_code)]
+#[path = "validation_sections/auto07p.rs"]
+mod auto07p_section;
+#[allow(dead_code)]
+#[path = "validation_sections/curve.rs"]
+mod curve_section;
+
 fn studies() -> std::path::PathBuf {
     root().join("studies")
 }
@@ -378,4 +385,37 @@ fn curve_command_writes_its_files() {
     let out = critspeed(&["check", &study], &dir);
     assert!(out.status.success());
     assert!(String::from_utf8_lossy(&out.stdout).contains("[curve] valid"));
+}
+
+/// AUTO-07p's generalised Hopf points (stored by `scripts/auto07p-curve`), extrapolated in its
+/// difference step, agree with critspeed's Bautin points to 1e-4 relative (measured: 2e-5 and
+/// 1e-6 in friction); at every state unit AUTO's points lie within 3 % of critspeed's, and
+/// move towards them as the unit (AUTO's step) halves. The Hopf curves' ends agree to 1e-6.
+#[test]
+fn bautin_points_agree_with_auto07p() {
+    let points = curve_section::bautin_points();
+    assert_eq!(points.len(), 2);
+    for b in &points {
+        let (mu, v) = b.critspeed;
+        let (emu, ev) = b.extrapolated.expect("AUTO labelled it at two units");
+        assert!(
+            ((emu - mu) / mu).abs() < 1e-4,
+            "friction {emu} against {mu}"
+        );
+        assert!(((ev - v) / v).abs() < 1e-4, "V {ev} against {v}");
+        let errors: Vec<f64> = b
+            .auto
+            .iter()
+            .flatten()
+            .map(|a| ((a.0 - mu) / mu).abs())
+            .collect();
+        assert!(
+            errors.len() >= 3 && errors.iter().all(|e| *e < 0.03),
+            "{errors:?}"
+        );
+        assert!(errors.windows(2).all(|w| w[0] < w[1]), "{errors:?}");
+    }
+    let ((a150, c150), (a06, c06)) = curve_section::curve_ends();
+    assert!(((a150 - c150) / c150).abs() < 1e-6, "{a150} {c150}");
+    assert!(((a06 - c06) / c06).abs() < 1e-6, "{a06} {c06}");
 }
