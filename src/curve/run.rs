@@ -207,7 +207,7 @@ fn stable_band<const N: usize>(
                 let (a, b) = (to_p(spec, w[0].parameter), to_p(spec, w[1].parameter));
                 let below =
                     w[0].stable_side == StableSide::Below || w[1].stable_side == StableSide::Below;
-                if !below || !(a.min(b) <= p && p <= a.max(b)) {
+                if !(below && a.min(b) <= p && p <= a.max(b)) {
                     return None;
                 }
                 let t = if a != b { (p - a) / (b - a) } else { 0.0 };

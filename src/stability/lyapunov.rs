@@ -6,9 +6,9 @@
 //! and its $n$-dimensional form in §5.4): with $Jq = iωq$, $J^{\mathsf T}p = −iωp$,
 //! $\langle p, q\rangle = \bar p^{\mathsf T} q = 1$, and $B$, $C$ the second and third
 //! derivatives of $f$ at the equilibrium,
-//! $$l_1 = \frac{1}{2ω}\,\mathrm{Re}\Big[\langle p, C(q,q,\bar q)\rangle
-//!   − 2\langle p, B(q, J^{-1}B(q,\bar q))\rangle
-//!   + \langle p, B(\bar q, (2iωI − J)^{-1}B(q,q))\rangle\Big].$$
+//! $$l_1 = \frac{1}{2ω}\,\mathrm{Re}\Big[\langle p, C(q,q,\bar q)\rangle −
+//!   2\langle p, B(q, J^{-1}B(q,\bar q))\rangle +
+//!   \langle p, B(\bar q, (2iωI − J)^{-1}B(q,q))\rangle\Big].$$
 //! In the coordinate $z$ of $x = zq + \bar z\bar q + O(|z|^2)$ the normal form is
 //! $\dot z = (σ + iω)z + c_1 z|z|^2$, $\mathrm{Re}\,c_1 = ω l_1$, so $r = |z|$ obeys
 //! $\dot r = r(σ + ω l_1 r^2)$: $l_1 < 0$ supercritical, $l_1 > 0$ subcritical.
@@ -229,7 +229,7 @@ fn eigenvectors<const N: usize>(
     let mut q: Vec<C64> = right.vector.iter().map(|z| C64::new(z.0, z.1)).collect();
     let qr = q.get(reference).copied().unwrap_or_default();
     let largest = q.iter().map(|z| z.norm()).fold(0.0, f64::max);
-    if !(qr.norm() > 1e-12 * largest) {
+    if qr.norm().is_nan() || qr.norm() <= 1e-12 * largest {
         return Err(LyapunovError::Reference {
             reference,
             modulus: qr.norm(),
@@ -240,7 +240,7 @@ fn eigenvectors<const N: usize>(
     // w = p̄ up to scale: normalise wᵀq = ⟨p, q⟩ = 1, then p = w̄
     let w: Vec<C64> = left.vector.iter().map(|z| C64::new(z.0, z.1)).collect();
     let wq: C64 = w.iter().zip(&q).map(|(a, b)| a * b).sum();
-    if !(wq.norm() > 0.0) {
+    if wq.norm().is_nan() || wq.norm() <= 0.0 {
         return Err(LyapunovError::NoPair { omega });
     }
     let p: Vec<C64> = w.iter().map(|z| (z / wq).conj()).collect();
