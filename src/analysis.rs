@@ -9,7 +9,8 @@ use crate::contact::creep::CreepLaw;
 use crate::contact::table::Row;
 use crate::model::{BodyKind, Vehicle};
 use crate::stability::{
-    critical_speeds, spectrum_at, CriticalSpeeds, Crossing, LinearError, LinearSystem, Spectrum,
+    critical_speeds, first_lyapunov, spectrum_at, CriticalSpeeds, Crossing, LinearError,
+    LinearSystem, Lyapunov, LyapunovOptions, Spectrum,
 };
 use crate::study::Plan;
 
@@ -36,6 +37,11 @@ pub struct LinearReport {
     pub kalker_modes: Vec<Option<ModeShape>>,
     /// mode shape at each crossing of the study's law, when not Kalker
     pub creep_law_modes: Vec<Option<ModeShape>>,
+    /// first Lyapunov coefficient at each Kalker crossing (same order as `kalker.crossings`;
+    /// `None` where it could not be computed)
+    pub kalker_lyapunov: Vec<Option<Lyapunov>>,
+    /// first Lyapunov coefficient at each crossing of the study's law, when not Kalker
+    pub creep_law_lyapunov: Vec<Option<Lyapunov>>,
 }
 
 /// One body's part of a mode shape.
@@ -145,10 +151,32 @@ fn modes<const N: usize>(
         .collect()
 }
 
+/// The first Lyapunov coefficient of `model` (its own law) at every crossing: the Hopf type
+/// from $l_1$ (docs/model.md §12, [`crate::stability::first_lyapunov`]).
+pub fn lyapunovs<const N: usize>(model: &Vehicle, found: &CriticalSpeeds) -> Vec<Option<Lyapunov>> {
+    found
+        .crossings
+        .iter()
+        .map(|c| {
+            let omega = 2.0 * std::f64::consts::PI * c.frequency_hz;
+            first_lyapunov::<N, _>(model, c.speed_m_s, omega, &LyapunovOptions::default()).ok()
+        })
+        .collect()
+}
+
 impl LinearReport {
     /// Crossings of the study's creep law (Kalker's when the study uses Kalker).
     pub fn law_crossings(&self) -> &CriticalSpeeds {
         self.creep_law.as_ref().unwrap_or(&self.kalker)
+    }
+
+    /// The first Lyapunov coefficients at [`Self::law_crossings`].
+    pub fn law_lyapunov(&self) -> &[Option<Lyapunov>] {
+        if self.creep_law.is_some() {
+            &self.creep_law_lyapunov
+        } else {
+            &self.kalker_lyapunov
+        }
     }
 }
 
@@ -187,19 +215,23 @@ pub fn linear_states<const N: usize>(
     let range = plan.linear.speed_range;
     let spectrum_kalker = spectrum_grid(&ks, range, plan.spectrum_points);
     let kalker_modes = modes(model, &ks, &kalker);
-    let (creep_law, spectrum_creep_law, creep_law_modes) = match model.creep_law() {
-        CreepLaw::Kalker => (None, Vec::new(), Vec::new()),
-        law => {
-            let ls = LinearSystem::<N>::at_centre(model);
-            let found = critical_speeds(&ls, law, &plan.linear)?;
-            let m = modes(model, &ls, &found);
-            (
-                Some(found),
-                spectrum_grid(&ls, range, plan.spectrum_points),
-                m,
-            )
-        }
-    };
+    let kalker_lyapunov = lyapunovs::<N>(&kalker_model, &kalker);
+    let (creep_law, spectrum_creep_law, creep_law_modes, creep_law_lyapunov) =
+        match model.creep_law() {
+            CreepLaw::Kalker => (None, Vec::new(), Vec::new(), Vec::new()),
+            law => {
+                let ls = LinearSystem::<N>::at_centre(model);
+                let found = critical_speeds(&ls, law, &plan.linear)?;
+                let m = modes(model, &ls, &found);
+                let l = lyapunovs::<N>(model, &found);
+                (
+                    Some(found),
+                    spectrum_grid(&ls, range, plan.spectrum_points),
+                    m,
+                    l,
+                )
+            }
+        };
     Ok(LinearReport {
         study: plan.name.clone(),
         kalker,
@@ -211,6 +243,8 @@ pub fn linear_states<const N: usize>(
         layout: (model.layout.name(), model.states()),
         kalker_modes,
         creep_law_modes,
+        kalker_lyapunov,
+        creep_law_lyapunov,
     })
 }
 

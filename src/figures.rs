@@ -1,7 +1,9 @@
 //! Results to [`crate::plot::Figure`]s: what each SVG shows. Sees results, never the model.
 
+mod curve;
 mod sweep;
 
+pub use curve::curve;
 pub use sweep::{sweep, sweep_map, HeatMap};
 
 use crate::analysis::{GeometryReport, LinearReport};

@@ -56,6 +56,7 @@ pub mod cli;
 pub mod conicity;
 pub mod contact;
 pub mod continuation;
+pub mod curve;
 pub mod figures;
 pub mod model;
 pub mod output;

@@ -21,6 +21,8 @@ use common::{reference, root};
 mod auto07p_section;
 #[path = "validation_sections/closed.rs"]
 mod closed_sections;
+#[path = "validation_sections/curve.rs"]
+mod curve_section;
 #[path = "validation/dtu_wheel.rs"]
 mod dtu_wheel;
 #[path = "validation/profiles.rs"]
@@ -245,7 +247,8 @@ fn report() -> String {
     table_sections::dtu_wheelset_section(&mut s);
     profiles_section::section(&mut s);
     auto07p_section::section(&mut s);
-    s.push_str("## 9. Not yet compared\n\nA published wheelset or bogie stability result with its linear and nonlinear critical speeds: none was found for a single wheelset (section 6); Cooperrider's bogie, as used by Kaas-Petersen and True, is a bogie, and this tool models one wheelset.\n");
+    curve_section::section(&mut s);
+    s.push_str("## 10. Not yet compared\n\nA published wheelset or bogie stability result with its linear and nonlinear critical speeds: none was found for a single wheelset (section 6); Cooperrider's bogie, as used by Kaas-Petersen and True, is a bogie, and this tool models one wheelset.\n");
     s
 }
 

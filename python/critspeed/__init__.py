@@ -46,6 +46,7 @@ __all__ = [
     "check",
     "linear",
     "bifurcation",
+    "curve",
     "simulate",
     "sweep",
     "conicity",
@@ -157,6 +158,29 @@ def bifurcation(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, An
     kind, value = _study(study)
     report, cols = _native.bifurcation(kind, value, _out(out))
     report["branch"] = _columns(cols)
+    return report
+
+
+def curve(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, Any]:
+    """Critical speeds as curves over the study's ``[curve]`` key: ``critspeed curve STUDY
+    --json``'s object, as a dict.
+
+    Keys as the command prints them: ``"key"``, ``"unit"``, ``"from"``, ``"to"``,
+    ``"curves"`` (a list of dicts with ``"kind"`` (``"hopf"``), ``"creep_law"``, ``"label"``
+    (``"V_L"`` or ``"V_H"``), ``"stops"`` and ``"points"``: dicts with ``"parameter"`` (the
+    key's value, SI), ``"speed_m_s"``, ``"frequency_hz"``, ``"amplitude_m"``,
+    ``"first_lyapunov_coefficient"`` (1/m²), ``"hopf_type"``, ``"stable_side"``),
+    ``"special_points"`` (Bautin, double Hopf, zero-Hopf, Bogdanov-Takens), ``"notes"``,
+    plus ``"points"``: ``{column of curve.csv: numpy array}`` with one entry per point of
+    every curve (``curve``, ``kind``, ``creep_law``, ``label``, the key's column,
+    ``speed_m_s``, ``frequency_hz``, ...), the very numbers of the CSV.
+
+    Releases the GIL; Ctrl-C stops it between continuation steps (``KeyboardInterrupt``).
+    With ``out``, writes ``curve.json``, ``curve.csv`` and ``curve.svg``.
+    """
+    kind, value = _study(study)
+    report, cols = _native.curve(kind, value, _out(out))
+    report["points"] = _columns(cols)
     return report
 
 

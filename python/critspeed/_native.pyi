@@ -28,6 +28,9 @@ def linear(kind: str, value: Any, out: Optional[str] = None) -> Dict[str, Any]:
 def bifurcation(kind: str, value: Any, out: Optional[str] = None) -> Tuple[Dict[str, Any], Columns]:
     """``bifurcation --json``'s object and the columns of branch.csv."""
 
+def curve(kind: str, value: Any, out: Optional[str] = None) -> Tuple[Dict[str, Any], Columns]:
+    """``curve --json``'s object and the columns of curve.csv."""
+    ...
 def simulate(
     kind: str,
     value: Any,

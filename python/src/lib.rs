@@ -298,6 +298,26 @@ fn bifurcation<'py>(
     Ok((to_py(py, &json)?, columns_py(py, &csv, api::kinds::BRANCH)?))
 }
 
+/// `curve --json`'s object and the columns of curve.csv.
+#[pyfunction]
+#[pyo3(signature = (kind, value, out=None))]
+fn curve<'py>(
+    py: Python<'py>,
+    kind: &str,
+    value: &Bound<'py, PyAny>,
+    out: Option<PathBuf>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyList>)> {
+    let src = source(kind, value)?;
+    let r = interruptible(py, |cancel| {
+        let study = api::curve::curve_study(&src)?;
+        api::curve::curve(&study, Some(cancel))
+    })?;
+    write(out.as_ref(), &r.study, || api::curve::files(&r))?;
+    let json = critspeed::output::curve_json(&r);
+    let csv = critspeed::output::curve_csv(&r);
+    Ok((to_py(py, &json)?, columns_py(py, &csv, api::kinds::CURVE)?))
+}
+
 /// The columns of simulate.csv.
 #[pyfunction]
 #[pyo3(signature = (kind, value, speeds, y0, duration, dt, out=None))]
@@ -445,6 +465,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(linear, m)?)?;
     m.add_function(wrap_pyfunction!(bifurcation, m)?)?;
+    m.add_function(wrap_pyfunction!(curve, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(conicity, m)?)?;

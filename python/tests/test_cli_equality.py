@@ -39,6 +39,24 @@ def test_bifurcation_equals_cli_json_and_branch_csv(study, tmp_path):
     assert branch["stable"].dtype == np.bool_
 
 
+CURVE_STUDIES = [s for s in STUDIES if "\n[curve]" in s.read_text()]
+
+
+def test_there_are_curve_studies():
+    assert len(CURVE_STUDIES) >= 2, CURVE_STUDIES
+
+
+@pytest.mark.parametrize("study", CURVE_STUDIES, ids=[s.stem for s in CURVE_STUDIES])
+def test_curve_equals_cli_json_and_curve_csv(study, tmp_path):
+    want = cli_json("curve", study, "--json", "--out", tmp_path)
+    got = critspeed.curve(study)
+    points = got.pop("points")
+    same(got, want)
+    same_as_csv(points, tmp_path / want["study"] / "curve.csv")
+    assert len(points["speed_m_s"]) == sum(len(c["points"]) for c in want["curves"])
+    assert points["label"].dtype == object or points["label"].dtype.kind == "U"
+
+
 @pytest.mark.parametrize("study", STUDIES, ids=IDS)
 def test_conicity_equals_cli_json(study, tmp_path):
     want = cli_json("conicity", study, "--json", "--out", tmp_path)

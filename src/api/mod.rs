@@ -13,6 +13,7 @@
 //! sweep points and simulated speeds; the CLI passes none.
 
 mod columns;
+pub mod curve;
 pub mod files;
 mod source;
 
@@ -26,6 +27,7 @@ pub use source::Source;
 /// Column types of the CSV files read back by [`columns`].
 pub mod kinds {
     pub use super::columns::{ATTRACTORS, BRANCH, NUMBERS, SWEEP};
+    pub use super::curve::CURVE;
 }
 
 use crate::analysis::{self, GeometryReport, LinearReport};
@@ -323,17 +325,17 @@ pub(crate) fn sweep_failure(e: crate::sweep::SweepError) -> Failure {
     }
 }
 
-/// What `check` found: the plan, and the `[sweep]` and `[trade]` sections, validated.
+/// What `check` found: the plan, and the `[sweep]`, `[trade]` and `[curve]` sections, validated.
 pub struct Checked {
     /// the resolved plan
     pub plan: Plan,
     /// the study's sweep, when it has a `[sweep]` section (every axis value gives a valid study)
     pub sweep: Option<SweepStudy>,
-    /// the `[sweep]` and `[trade]` tables as written, when present
+    /// the `[sweep]`, `[trade]` and `[curve]` tables as written, when present
     pub sections: Vec<(String, toml::Value)>,
 }
 
-/// Validates a study with its `[sweep]` and `[trade]` sections.
+/// Validates a study with its `[sweep]`, `[trade]` and `[curve]` sections.
 pub fn check(source: &Source) -> Result<Checked, Failure> {
     let plan = source.plan()?;
     let file = source.file_schema()?;
@@ -344,13 +346,16 @@ pub fn check(source: &Source) -> Result<Checked, Failure> {
     if let Some(t) = &file.trade {
         crate::trade::trade_plan(t).map_err(user)?;
     }
+    if file.curve.is_some() {
+        curve::curve_study(source)?;
+    }
     let raw: toml::Table = toml::from_str(&source.text).map_err(|e| {
         user(crate::study::StudyError::Syntax {
             path: source.origin.clone(),
             message: e.to_string(),
         })
     })?;
-    let sections = ["sweep", "trade"]
+    let sections = ["sweep", "trade", "curve"]
         .iter()
         .filter_map(|k| raw.get(*k).map(|v| (k.to_string(), v.clone())))
         .collect();
@@ -362,8 +367,8 @@ pub fn check(source: &Source) -> Result<Checked, Failure> {
 }
 
 /// The resolved plan in SI as JSON (what `critspeed check` prints as a table: the study file's
-/// sections and keys, every quantity a number in SI, defaults filled), with the `[sweep]` and
-/// `[trade]` sections as written. For the cone and cone-on-arc geometries the object is itself
+/// sections and keys, every quantity a number in SI, defaults filled), with the `[sweep]`,
+/// `[trade]` and `[curve]` sections as written. For the cone and cone-on-arc geometries the object is itself
 /// a valid study that resolves to the same plan.
 pub fn check_json(c: &Checked) -> Result<Value, Failure> {
     let mut v = crate::output::plan_json(&c.plan);

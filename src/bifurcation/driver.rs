@@ -113,6 +113,7 @@ pub(super) fn analyse_states<const N: usize>(
         kalker_critical_speed_m_s,
         hopf: None,
         hopf_type: None,
+        first_lyapunov: None,
         nonlinear_critical_speed: None,
         nonlinear_sources: Vec::new(),
         branches: Vec::new(),
@@ -137,6 +138,9 @@ pub(super) fn analyse_states<const N: usize>(
     };
     report.hopf = Some(hopf);
     let omega = 2.0 * std::f64::consts::PI * hopf.frequency_hz;
+    report.first_lyapunov =
+        crate::stability::first_lyapunov::<N, _>(model, hopf.speed_m_s, omega, &Default::default())
+            .ok();
     let a_ref = 1e-3;
     // each coordinate scaled by its share of the Hopf eigenvector (the leading wheelset's y is
     // 1): 1 mm of lateral amplitude ≈ 1 m/s of speed in the arclength

@@ -235,6 +235,9 @@ pub struct BifurcationReport {
     pub hopf: Option<Crossing>,
     /// its type, from the branch's initial direction
     pub hopf_type: Option<HopfType>,
+    /// the first Lyapunov coefficient at the Hopf point (docs/model.md §12), whose sign decides
+    /// the type independently of the branch ([`crate::stability::first_lyapunov`])
+    pub first_lyapunov: Option<crate::stability::Lyapunov>,
     /// lowest speed with a stable cycle on any branch (m/s), and whether it was located (a
     /// located special point or the supercritical Hopf point) or is only the lowest stable
     /// computed cycle

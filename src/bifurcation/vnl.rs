@@ -241,6 +241,7 @@ mod tests {
                 bracket_m_s: 1e-12,
             }),
             hopf_type: Some(HopfType::Supercritical),
+            first_lyapunov: None,
             nonlinear_critical_speed: None,
             nonlinear_sources: Vec::new(),
             branches: vec![

@@ -66,6 +66,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
         Command::Sweep(args) => super::sweep::run(args, &cli.out),
         Command::Merge(args) => super::sweep::merge(args, &cli.out),
         Command::Trade(args) => super::trade::run(args, &cli.out),
+        Command::Curve(args) => super::curve::run(args, &cli.out),
         Command::Geometry { study } => {
             let p = prepare(load(study)?)?;
             let g = geometry(&p, &cli.out)?;
@@ -90,6 +91,9 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
             }
             if checked.sections.iter().any(|(k, _)| k == "trade") {
                 sections += "[trade] valid\n";
+            }
+            if checked.sections.iter().any(|(k, _)| k == "curve") {
+                sections += "[curve] valid\n";
             }
             let model = build(&checked.plan)?;
             results(&format!(

@@ -11,6 +11,7 @@ mod attractors;
 mod commands;
 mod conicity;
 mod console;
+mod curve;
 mod first_run;
 mod ramp;
 mod sweep;
@@ -103,6 +104,10 @@ pub enum Command {
     /// Parameter sweep: the critical speeds over the study's `[sweep]` grid, in parallel,
     /// resumable, optionally one shard: `out/<name>/sweep.csv` and plots.
     Sweep(sweep::SweepArgs),
+    /// Critical speeds as curves over the study's `[curve]` key: the Hopf speeds V_L and V_H
+    /// continued in (speed, key), with the first Lyapunov coefficient and the
+    /// codimension-two points (curve.csv, curve.json, curve.svg).
+    Curve(curve::CurveArgs),
     /// Join the records files of a sharded sweep into sweep.csv (refuses other studies' files).
     Merge(sweep::MergeArgs),
     /// The study's `[trade]` over its sweep (`out/<name>/sweep.csv`): the feasible set, the best

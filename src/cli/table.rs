@@ -14,6 +14,7 @@ fn crossings(
     label: &str,
     c: &CriticalSpeeds,
     modes: Option<&[Option<crate::analysis::ModeShape>]>,
+    l1: &[Option<crate::stability::Lyapunov>],
 ) {
     if !c.stable_at_start {
         let _ = writeln!(
@@ -39,6 +40,10 @@ fn crossings(
             x.frequency_hz,
             x.wavelength_m
         );
+        // the Hopf type from the first Lyapunov coefficient (1/m², docs/model.md §12)
+        if let Some(Some(l)) = l1.get(k) {
+            let _ = write!(s, "  l1 {:+.3e} 1/m2 {}", l.l1, l.kind().name());
+        }
         // vehicles: the mode and the body that leads it
         if let Some(Some(m)) = modes.and_then(|m| m.get(k)) {
             let _ = write!(s, "  {} ({} leads)", m.label, m.leading_body);
@@ -77,10 +82,17 @@ pub fn linear(plan: &Plan, r: &LinearReport) -> String {
         let _ = writeln!(s, "  vehicle: {} ({} states)", r.layout.0, r.layout.1);
     }
     let kalker_modes = vehicle.then_some(&r.kalker_modes[..]);
-    crossings(&mut s, "Kalker: linear V_L", &r.kalker, kalker_modes);
+    crossings(
+        &mut s,
+        "Kalker: linear V_L",
+        &r.kalker,
+        kalker_modes,
+        &r.kalker_lyapunov,
+    );
     if let Some(c) = &r.creep_law {
         let label = format!("{}: Hopf V_H", c.law.name());
-        crossings(&mut s, &label, c, vehicle.then_some(&r.creep_law_modes[..]));
+        let modes = vehicle.then_some(&r.creep_law_modes[..]);
+        crossings(&mut s, &label, c, modes, &r.creep_law_lyapunov);
     }
     // How far from instability the top of the range is, so "no crossing" has a measure.
     for (name, spectra) in [
@@ -348,6 +360,18 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> String {
         r.hopf_type
             .map_or(String::new(), |t| format!(", {}", t.name()))
     );
+    if let Some(l) = &r.first_lyapunov {
+        let _ = writeln!(
+            s,
+            "  first Lyapunov coefficient l1          {:+.4e} 1/m2 (error {:.1e}): {}",
+            l.l1,
+            l.error,
+            l.kind().name()
+        );
+    }
+    if let Some(note) = crate::output::hopf_type_note(r) {
+        let _ = writeln!(s, "  note: {note}");
+    }
     let how = r.nonlinear_sources.first().map_or(String::new(), |c| {
         format!(
             ", {} ({}{}, {})",

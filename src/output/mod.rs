@@ -4,6 +4,7 @@
 //! CSV or JSON gets exactly the `f64` that was computed. Every CSV header carries its unit.
 
 mod attractors;
+mod curve;
 mod plan;
 
 use std::fmt::Write as _;
@@ -15,6 +16,7 @@ use crate::analysis::{GeometryReport, LinearReport};
 use crate::stability::{CriticalSpeeds, Crossing, Spectrum};
 
 pub use attractors::{attractors_csv, attractors_json, ATTRACTOR_KIND};
+pub use curve::{curve_csv, curve_json, curve_key_column, CURVE_KIND};
 pub use plan::plan_json;
 
 /// What every linear output calls the speeds it reports.
@@ -50,14 +52,38 @@ fn mode_json(m: &crate::analysis::ModeShape) -> Value {
     json!({ "label": m.label, "leading_body": m.leading_body, "bodies": bodies })
 }
 
-/// The crossings, each with its mode shape when one was computed.
-fn crossings_json(c: &CriticalSpeeds, modes: &[Option<crate::analysis::ModeShape>]) -> Value {
+/// The first Lyapunov coefficient's fields of a crossing (`null` where it was not computed):
+/// $l_1$ in 1/m² (normalised to the leading wheelset's lateral amplitude), its error
+/// estimate and the Hopf type it gives.
+pub fn lyapunov_fields(l: Option<&crate::stability::Lyapunov>) -> [(&'static str, Value); 3] {
+    [
+        ("first_lyapunov_coefficient", json!(l.map(|l| l.l1))),
+        (
+            "first_lyapunov_coefficient_error",
+            json!(l.map(|l| l.error)),
+        ),
+        ("hopf_type", json!(l.map(|l| l.kind().name()))),
+    ]
+}
+
+/// The crossings, each with its mode shape when one was computed and its first Lyapunov
+/// coefficient.
+fn crossings_json(
+    c: &CriticalSpeeds,
+    modes: &[Option<crate::analysis::ModeShape>],
+    l1: &[Option<crate::stability::Lyapunov>],
+) -> Value {
     Value::Array(
         c.crossings
             .iter()
             .enumerate()
             .map(|(k, x)| {
                 let mut v = crossing_json(x);
+                if let Some(o) = v.as_object_mut() {
+                    for (key, value) in lyapunov_fields(l1.get(k).and_then(Option::as_ref)) {
+                        o.insert(key.into(), value);
+                    }
+                }
                 if let (Some(Some(m)), Some(o)) = (modes.get(k), v.as_object_mut()) {
                     o.insert("mode".into(), Value::from(m.label));
                     o.insert("leading_body".into(), Value::from(m.leading_body.clone()));
@@ -69,12 +95,16 @@ fn crossings_json(c: &CriticalSpeeds, modes: &[Option<crate::analysis::ModeShape
     )
 }
 
-fn details_json(c: &CriticalSpeeds, modes: &[Option<crate::analysis::ModeShape>]) -> Value {
+fn details_json(
+    c: &CriticalSpeeds,
+    modes: &[Option<crate::analysis::ModeShape>],
+    l1: &[Option<crate::stability::Lyapunov>],
+) -> Value {
     json!({
         "creep_law": c.law.name(),
         "stable_at_range_start": c.stable_at_start,
         "critical_speed_m_s": c.critical().map(|x| x.speed_m_s),
-        "crossings": crossings_json(c, modes),
+        "crossings": crossings_json(c, modes, l1),
         "divergence_speeds_m_s": c.divergence_speeds_m_s,
         "polynomial_evaluations": c.evaluations,
     })
@@ -95,14 +125,14 @@ pub fn linear_json(r: &LinearReport) -> Value {
         "states": r.layout.1,
         "speed_range_m_s": [r.kalker.speed_range.0, r.kalker.speed_range.1],
         "creep_law": law.law.name(),
-        "critical_speeds": crossings_json(&r.kalker, &r.kalker_modes),
-        "creep_law_hopf_speeds": crossings_json(law, law_modes),
+        "critical_speeds": crossings_json(&r.kalker, &r.kalker_modes, &r.kalker_lyapunov),
+        "creep_law_hopf_speeds": crossings_json(law, law_modes, r.law_lyapunov()),
         "linear_critical_speed_m_s": r.kalker.critical().map(|c| c.speed_m_s),
         "creep_law_hopf_speed_m_s": law.critical().map(|c| c.speed_m_s),
         "centre_conicity": r.centre_conicity,
         "klingel_wavelength_m": r.klingel_wavelength_m,
-        "kalker": details_json(&r.kalker, &r.kalker_modes),
-        "creep_law_details": details_json(law, law_modes),
+        "kalker": details_json(&r.kalker, &r.kalker_modes, &r.kalker_lyapunov),
+        "creep_law_details": details_json(law, law_modes, r.law_lyapunov()),
     })
 }
 
@@ -262,6 +292,10 @@ pub fn bifurcation_json(r: &crate::bifurcation::BifurcationReport) -> Value {
         "hopf_speed_m_s": r.hopf.map(|h| h.speed_m_s),
         "hopf_frequency_hz": r.hopf.map(|h| h.frequency_hz),
         "hopf_type": r.hopf_type.map(|t| t.name()),
+        "first_lyapunov_coefficient": r.first_lyapunov.as_ref().map(|l| l.l1),
+        "first_lyapunov_coefficient_error": r.first_lyapunov.as_ref().map(|l| l.error),
+        "hopf_type_from_l1": r.first_lyapunov.as_ref().map(|l| l.kind().name()),
+        "hopf_type_note": hopf_type_note(r),
         "nonlinear_critical_speed_m_s": r.nonlinear_critical_speed.map(|v| v.0),
         "nonlinear_critical_speed_located": r.nonlinear_critical_speed.map(|v| v.1),
         "nonlinear_critical_speed_sources": r.nonlinear_sources.iter().map(vnl_candidate_json).collect::<Vec<_>>(),
@@ -271,6 +305,33 @@ pub fn bifurcation_json(r: &crate::bifurcation::BifurcationReport) -> Value {
         "notes": r.notes,
         "cycles": r.cycles.len(),
         "max_trivial_multiplier_error": worst_trivial,
+    })
+}
+
+/// In words, when the Hopf type from the branch's direction and the one from $l_1$ are not
+/// the same (or $l_1$ does not decide it); `None` when they agree or either is missing.
+pub fn hopf_type_note(r: &crate::bifurcation::BifurcationReport) -> Option<String> {
+    use crate::bifurcation::HopfType;
+    use crate::stability::HopfKind;
+    let (branch, l) = (r.hopf_type?, r.first_lyapunov.as_ref()?);
+    let same = matches!(
+        (branch, l.kind()),
+        (HopfType::Supercritical, HopfKind::Supercritical)
+            | (HopfType::Subcritical, HopfKind::Subcritical)
+    );
+    (!same).then(|| {
+        format!(
+            "the branch leaves the Hopf point as a {} one, but l1 = {:.4e} 1/m^2 (error estimate {:.1e}) says {}{}",
+            branch.name(),
+            l.l1,
+            l.error,
+            l.kind().name(),
+            if l.kind() == HopfKind::Undecided {
+                ": its sign is not decided (near a Bautin point, or the contact table is not smooth at the difference steps)"
+            } else {
+                ": the branch direction is decided by its first cycles, l1 by the equilibrium's derivatives"
+            }
+        )
     })
 }
 

@@ -96,6 +96,10 @@ pub enum Style {
     Above,
     /// Unconnected crosses (×), e.g. points that have no value, drawn at a chosen place.
     Crosses,
+    /// A closed polygon through the points, filled with a light tint of the colour the next
+    /// series gets (so a region and the curve that bounds it match); vertices outside the
+    /// plotted range are moved onto its edge.
+    Shade,
     /// Filled circles coloured by a value on a viridis-like scale, with a
     /// colour bar showing `label` and the value range. Series sharing the
     /// same `label` share one scale and one colour bar.

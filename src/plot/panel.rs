@@ -270,6 +270,11 @@ fn draw_series<'a, 'b: 'a>(
                     .iter()
                     .map(|(pt, c)| Cross::new(*pt, 2 * dot, c.stroke_width(m.line))),
             ),
+            Mark::Shade => chart.draw_series(
+                it.runs
+                    .iter()
+                    .map(|r| Polygon::new(r.clone(), it.colour.mix(0.16).filled())),
+            ),
         }
         .map_err(backend_err)?;
         if it.name.is_empty() {
@@ -290,6 +295,12 @@ fn draw_series<'a, 'b: 'a>(
             }
             Mark::Crosses => {
                 anno.legend(move |(x, y)| Cross::new((x + len / 2, y), 2 * dot, style))
+            }
+            Mark::Shade => {
+                let tint = it.colour.mix(0.16).filled();
+                anno.legend(move |(x, y)| {
+                    Rectangle::new([(x, y - dot as i32), (x + len, y + dot as i32)], tint)
+                })
             }
             Mark::Coloured => anno.legend(move |(x, y)| {
                 let c = |t: f64| {

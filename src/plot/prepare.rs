@@ -20,6 +20,8 @@ pub(crate) enum Mark {
     Above,
     /// Crosses in the series colour.
     Crosses,
+    /// A filled polygon (its one run) in a tint of the series colour.
+    Shade,
 }
 
 /// One series, ready to draw.
@@ -218,6 +220,18 @@ pub(crate) fn prepare(fig: &Figure) -> Result<Prepared, PlotError> {
                     Mark::Points
                 };
                 item.points = visible.map(|(_, p)| (p, item.colour)).collect();
+            }
+            Style::Shade => {
+                item.mark = Mark::Shade;
+                let clamp =
+                    |(x, y): (f64, f64)| (x.clamp(rect.x0, rect.x1), y.clamp(rect.y0, rect.y1));
+                item.runs = vec![s
+                    .points
+                    .iter()
+                    .map(scaled)
+                    .filter(finite)
+                    .map(clamp)
+                    .collect()];
             }
             Style::PointsColoured { values, label } => {
                 let bar = bars.iter().find(|b| b.label == *label);

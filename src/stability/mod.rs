@@ -30,10 +30,12 @@
 mod brent;
 mod eigen_scan;
 mod hopf;
+mod lyapunov;
 mod spectrum;
 
 pub use eigen_scan::EIGEN_GRID_POINTS;
-pub use spectrum::{eigenvalues, spectrum_at, EigenPair, Spectrum};
+pub use lyapunov::{first_lyapunov, HopfKind, Lyapunov, LyapunovError, LyapunovOptions};
+pub use spectrum::{determinant, eigenvalues, spectrum_at, EigenPair, Spectrum};
 
 use nalgebra::{Matrix4, SMatrix, SVector};
 

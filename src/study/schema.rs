@@ -54,6 +54,9 @@ pub struct StudyFile {
     /// trade study (`critspeed trade`), kept raw here and parsed by that command
     #[serde(default)]
     pub trade: Option<toml::Table>,
+    /// critical speeds as curves over a design key (`critspeed curve`)
+    #[serde(default)]
+    pub curve: Option<CurveSection>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -331,4 +334,35 @@ pub struct SweepAxisSection {
     /// "linear" (default) or "log"
     #[serde(default)]
     pub spacing: Option<String>,
+}
+
+/// `[curve]`: critical speeds as curves over one design key (`critspeed curve`).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CurveSection {
+    /// dotted study key, any sweepable one, e.g. "suspension.lateral_stiffness"
+    pub key: String,
+    /// one end of the key's range (any accepted unit of the key)
+    pub from: Quantity,
+    /// the other end
+    pub to: Quantity,
+    /// "linear" (default) or "log": the axis the curves are continued and drawn on
+    #[serde(default)]
+    pub spacing: Option<String>,
+    /// what to continue: any of "hopf", "fold", "symmetry_breaking", "period_doubling",
+    /// "torus" (default ["hopf", "fold"])
+    #[serde(default)]
+    pub curves: Option<Vec<String>>,
+    /// speeds the curves may visit (default: the linear speed range)
+    #[serde(default)]
+    pub speed_range: Option<[Quantity; 2]>,
+    /// most points on each side of a curve's start (default 400)
+    #[serde(default)]
+    pub max_points: Option<usize>,
+    /// largest step, as a fraction of the plot's diagonal (default 0.02)
+    #[serde(default)]
+    pub max_step: Option<f64>,
+    /// values of the key where Hopf points are searched to start curves from (default 5)
+    #[serde(default)]
+    pub seed_points: Option<usize>,
 }

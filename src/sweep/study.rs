@@ -25,7 +25,7 @@ pub struct SweepStudy {
 }
 
 /// Sets a dotted key in a TOML table, creating sub-tables as needed.
-fn set_key(t: &mut toml::Table, key: &str, value: f64) {
+pub(crate) fn set_key(t: &mut toml::Table, key: &str, value: f64) {
     let mut parts: Vec<&str> = key.split('.').collect();
     let last = parts.pop().unwrap_or(key);
     let mut cur = t;
@@ -46,7 +46,7 @@ fn set_key(t: &mut toml::Table, key: &str, value: f64) {
 
 /// Replaces each sweepable quantity written with a unit by its SI number (the value the
 /// study's own validation gives), so that the per-point plans do not parse units again.
-fn normalise(t: &mut toml::Table) {
+pub(crate) fn normalise(t: &mut toml::Table) {
     for (key, dim) in SWEEP_KEYS {
         let mut cur = &mut *t;
         let mut parts = key.split('.').peekable();

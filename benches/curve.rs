@@ -1,0 +1,63 @@
+//! Benches of `critspeed curve`'s Hopf curves and of the first Lyapunov coefficient.
+//!
+//! * `curve_seed_stiffness_hopf`: V_L and V_H over the primary lateral stiffness of
+//!   `studies/seed-stiffness-map.toml` (its `[curve]`: 100 to 3000 N/mm, log), both curves
+//!   with l1 at every point and the stable region (the command's Hopf work; goal < 50 ms).
+//! * `curve_dtu_bogie_yaw_damping_hopf`: the six Hopf curves of the DTU bogie over the
+//!   yaw-damper rate (0 to 400 kN s/m), with its two double Hopf points.
+//! * `first_lyapunov_seed_hunting`: l1 at the Shen Hopf point of `studies/seed-hunting.toml`
+//!   (Richardson tableau of central differences of the exact Jacobian).
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use critspeed::api::{self, Source};
+use critspeed::curve::CurveKind;
+use critspeed::stability::{critical_speeds, first_lyapunov, LinearSystem, LyapunovOptions};
+use std::hint::black_box;
+use std::path::PathBuf;
+
+fn study(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("studies")
+        .join(name)
+}
+
+fn hopf_only(name: &str) -> api::curve::CurveStudy {
+    let source = Source::file(&study(name)).expect("study file");
+    let mut s = api::curve::curve_study(&source).expect("curve study");
+    s.spec.curves = vec![CurveKind::Hopf];
+    s
+}
+
+fn benches(c: &mut Criterion) {
+    let seed = hopf_only("seed-stiffness-map.toml");
+    c.bench_function("curve_seed_stiffness_hopf", |b| {
+        b.iter(|| api::curve::curve(black_box(&seed), None).expect("curves"))
+    });
+    let bogie = hopf_only("dtu-cooperrider-bogie.toml");
+    let mut group = c.benchmark_group("slow");
+    group.sample_size(10);
+    group.bench_function("curve_dtu_bogie_yaw_damping_hopf", |b| {
+        b.iter(|| api::curve::curve(black_box(&bogie), None).expect("curves"))
+    });
+    group.finish();
+    let plan = critspeed::study::load(&study("seed-hunting.toml")).expect("study");
+    let model = plan.model().expect("model");
+    let sys = LinearSystem::<4>::at_centre(&model);
+    let found = critical_speeds(&sys, model.creep_law(), &plan.linear).expect("linear");
+    let h = *found.critical().expect("a Hopf point");
+    let omega = 2.0 * std::f64::consts::PI * h.frequency_hz;
+    c.bench_function("first_lyapunov_seed_hunting", |b| {
+        b.iter(|| {
+            first_lyapunov::<4, _>(
+                black_box(&model),
+                h.speed_m_s,
+                omega,
+                &LyapunovOptions::default(),
+            )
+            .expect("l1")
+        })
+    });
+}
+
+criterion_group!(curve_benches, benches);
+criterion_main!(curve_benches);

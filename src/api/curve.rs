@@ -1,0 +1,73 @@
+//! `critspeed curve`: a study with a `[curve]` section in, the curves out.
+
+use anyhow::anyhow;
+
+use super::files::File;
+use super::{compute, user, Cancel, Failure, Kind, Source};
+use crate::curve::keyed::KeyedStudy;
+use crate::curve::{CurveError, CurveReport, CurveSpec};
+
+/// The column types of `curve.csv` (numbers but these).
+pub const CURVE: &[(&str, Kind)] = &[
+    ("kind", Kind::Text),
+    ("creep_law", Kind::Text),
+    ("label", Kind::Text),
+    ("hopf_type", Kind::Text),
+    ("stable_side", Kind::Text),
+];
+
+/// A study with its `[curve]` section resolved.
+pub struct CurveStudy {
+    /// the study at any value of the key
+    pub keyed: KeyedStudy,
+    /// the resolved section
+    pub spec: CurveSpec,
+}
+
+fn failure(e: CurveError) -> Failure {
+    if e.is_user_error() {
+        user(e)
+    } else {
+        compute(e)
+    }
+}
+
+/// The study of `source` with its `[curve]` section (a study without one is a user error).
+pub fn curve_study(source: &Source) -> Result<CurveStudy, Failure> {
+    let section = source.file_schema()?.curve.ok_or_else(|| {
+        user(anyhow!(
+            "{}: no [curve] section: `critspeed curve` needs one with key, from and to",
+            source.origin
+        ))
+    })?;
+    let keyed = KeyedStudy::new(
+        &source.text,
+        &source.origin,
+        source.folder.as_deref(),
+        &section.key,
+    )
+    .map_err(failure)?;
+    let spec = crate::curve::resolve(&section, &keyed).map_err(failure)?;
+    Ok(CurveStudy { keyed, spec })
+}
+
+/// The curves the study's `[curve]` section asks for; `cancel` is asked before every
+/// continuation step (a cancelled run is a [`Failure::Compute`] saying so).
+pub fn curve(study: &CurveStudy, cancel: Cancel<'_>) -> Result<CurveReport, Failure> {
+    let report = crate::curve::analyse(&study.keyed, &study.spec, cancel).map_err(failure)?;
+    if cancel.is_some_and(|c| c()) {
+        return Err(compute(anyhow!("curve continuation cancelled")));
+    }
+    Ok(report)
+}
+
+/// `curve.json`, `curve.csv` and `curve.svg`.
+pub fn files(r: &CurveReport) -> Result<Vec<File>, Failure> {
+    let json = serde_json::to_string_pretty(&crate::output::curve_json(r)).map_err(compute)?;
+    let svg = crate::figures::curve(r).map_err(|e| compute(anyhow!(e)))?;
+    Ok(vec![
+        ("curve.json".into(), json.into_bytes()),
+        ("curve.csv".into(), crate::output::curve_csv(r).into_bytes()),
+        ("curve.svg".into(), svg.into_bytes()),
+    ])
+}

@@ -1,0 +1,126 @@
+//! `critspeed curve STUDY`: the critical speeds as curves over the `[curve]` key.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::commands::{compute, out_dir, write_all};
+use super::console::{results, statusln};
+use super::Failure;
+use crate::api::{self, Source};
+use crate::curve::CurveReport;
+
+/// Arguments of `critspeed curve`.
+#[derive(Debug, clap::Args)]
+pub struct CurveArgs {
+    /// Study file (TOML) with a `[curve]` section.
+    pub study: PathBuf,
+    /// Print one JSON object on stdout instead of the summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Computes the curves, writes curve.json, curve.csv and curve.svg, prints the summary.
+pub fn run(a: &CurveArgs, root: &Path) -> Result<(), Failure> {
+    let study = api::curve::curve_study(&Source::file(&a.study)?)?;
+    let s = &study.spec;
+    let kinds: Vec<&str> = s.curves.iter().map(|k| k.name()).collect();
+    statusln!(
+        "continuing {} curves of '{}' over {} in [{}, {}]{} and [{}, {}] m/s",
+        kinds.join(", "),
+        study.keyed.base.name,
+        s.key,
+        s.range.0,
+        s.range.1,
+        match s.dimension.si_unit() {
+            "" => String::new(),
+            u => format!(" {u}"),
+        },
+        s.speed_range.0,
+        s.speed_range.1
+    );
+    let started = std::time::Instant::now();
+    let report = api::curve::curve(&study, None)?;
+    statusln!(
+        "  {} curves, {} points in {:.2} s",
+        report.curves.len(),
+        report.curves.iter().map(|c| c.points.len()).sum::<usize>(),
+        started.elapsed().as_secs_f64()
+    );
+    for n in &report.notes {
+        statusln!("note: {n}");
+    }
+    write_all(
+        &out_dir(root, &study.keyed.base)?,
+        &api::curve::files(&report)?,
+    )?;
+    if a.json {
+        let text =
+            serde_json::to_string_pretty(&crate::output::curve_json(&report)).map_err(compute)?;
+        results(&format!("{text}\n"))
+    } else {
+        results(&summary(&report))
+    }
+}
+
+/// The summary table: each curve's ends, then the special points and the notes.
+pub fn summary(r: &CurveReport) -> String {
+    let unit = match r.dimension.si_unit() {
+        "" => String::new(),
+        u => format!(" {u}"),
+    };
+    let mut s = format!(
+        "\nstudy '{}': critical speeds against {}{}, V in [{}, {}] m/s\n",
+        r.study,
+        r.key,
+        if unit.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", unit.trim())
+        },
+        r.speed_range.0,
+        r.speed_range.1
+    );
+    let _ = writeln!(
+        s,
+        "  {:<5} {:<6} {:>7} {:>14} {:>12} {:>14} {:>12}  stops",
+        "curve", "speed", "points", "first key", "V (m/s)", "last key", "V (m/s)"
+    );
+    for (k, c) in r.curves.iter().enumerate() {
+        let (Some(a), Some(b)) = (c.points.first(), c.points.last()) else {
+            continue;
+        };
+        let _ = writeln!(
+            s,
+            "  {k:<5} {:<6} {:>7} {:>14.6e} {:>12.4} {:>14.6e} {:>12.4}  {}; {}",
+            c.label,
+            c.points.len(),
+            a.parameter,
+            a.speed_m_s,
+            b.parameter,
+            b.speed_m_s,
+            c.stops.0.describe(),
+            c.stops.1.describe()
+        );
+    }
+    for p in &r.special_points {
+        let _ = writeln!(
+            s,
+            "  {} ({}) on curve {}{}: {} = {:.6e}{unit}, V = {:.4} m/s, {:.4} Hz{} ({})",
+            p.kind.label(),
+            p.kind.name(),
+            p.curve,
+            p.other_curve.map_or(String::new(), |o| format!(" and {o}")),
+            r.key,
+            p.parameter,
+            p.speed_m_s,
+            p.frequency_hz,
+            p.second_frequency_hz
+                .map_or(String::new(), |f| format!(" and {f:.4} Hz")),
+            if p.located { "located" } else { "bracketed" }
+        );
+    }
+    for n in &r.notes {
+        let _ = writeln!(s, "  note: {n}");
+    }
+    s
+}
