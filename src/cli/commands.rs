@@ -73,6 +73,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
         }
         Command::Check { study } => {
             let checked = api::check(&Source::file(study)?)?;
+            warn(&checked.warnings);
             let mut sections = String::new();
             if let Some(s) = &checked.sweep {
                 let keys: Vec<String> = s
@@ -93,7 +94,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
             let model = build(&checked.plan)?;
             results(&format!(
                 "{}{}{sections}",
-                table::plan(&checked.plan),
+                table::plan(&checked.plan, &checked.warnings),
                 table::vehicle(&model)
             ))?;
             Ok(())
@@ -101,8 +102,18 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
     }
 }
 
+/// The validated plan of a study file; its plausibility warnings go to stderr.
 pub(super) fn load(path: &Path) -> Result<Plan, Failure> {
-    Source::file(path)?.plan()
+    let plan = Source::file(path)?.plan()?;
+    warn(&plan.warnings);
+    Ok(plan)
+}
+
+/// Each message on stderr as `warning: …`.
+pub(super) fn warn<T: std::fmt::Display>(warnings: &[T]) {
+    for w in warnings {
+        statusln!("warning: {w}");
+    }
 }
 
 pub(super) fn prepare(plan: Plan) -> Result<Prepared, Failure> {

@@ -96,6 +96,7 @@ pub(super) fn compute_points(
     root: &Path,
 ) -> Result<Option<(SweepStudy, Vec<PointRecord>)>, Failure> {
     let study = SweepStudy::load(&args.study).map_err(failure)?;
+    super::commands::warn(&crate::api::sweep_warnings(&study));
     if args.threads == Some(0) {
         return Err(user(anyhow!("--threads 0: must be at least 1")));
     }
