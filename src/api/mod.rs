@@ -3,7 +3,7 @@
 //! printed by `critspeed linear --json` and one returned by `critspeed.linear()` come from the
 //! same code path.
 //!
-//! The surface is kept small on purpose: a [`Source`] (file, TOML text or JSON object) gives a
+//! The surface is kept small on purpose: a [`Source`] (file, TOML text or a TOML table) gives a
 //! validated [`Plan`]; [`Prepared`] is a plan with its model built (the model type never
 //! crosses this surface); each analysis returns its plain report, [`files`] turns a report into
 //! the bytes of the files the CLI writes, and [`columns`] reads one of those CSV files back as

@@ -133,13 +133,36 @@ pub(super) fn out_dir(root: &Path, plan: &Plan) -> Result<PathBuf, Failure> {
     files::folder(root, &plan.name)
 }
 
-/// Writes the files into `dir`, saying so on stderr.
-pub(super) fn write_all(dir: &Path, f: &[files::File]) -> Result<(), Failure> {
-    files::write(dir, f, &mut |p| statusln!("wrote {}", p.display()))
+/// Writes the files into `dir`, saying so on stderr, with a warning for each figure written as
+/// a note.
+pub(super) fn write_all(dir: &Path, out: &files::Output) -> Result<(), Failure> {
+    files::write(dir, out, &mut |p| statusln!("wrote {}", p.display()))?;
+    warn(&out.warnings);
+    Ok(())
 }
 
 pub(super) fn write(dir: &Path, file: &str, bytes: &[u8]) -> Result<(), Failure> {
-    write_all(dir, &[(file.to_string(), bytes.to_vec())])
+    write_all(
+        dir,
+        &files::Output {
+            files: vec![(file.to_string(), bytes.to_vec())],
+            warnings: Vec::new(),
+        },
+    )
+}
+
+/// Writes a figure, or the note in its place with a warning; `numbers` names the files that
+/// hold its results.
+pub(super) fn write_figure(
+    dir: &Path,
+    f: crate::figures::Rendered,
+    numbers: &str,
+) -> Result<(), Failure> {
+    let file = f.file.clone();
+    let (bytes, warning) = files::figure(f, numbers);
+    write(dir, &file, &bytes)?;
+    warn(&warning.into_iter().collect::<Vec<_>>());
+    Ok(())
 }
 
 pub(super) fn linear(p: &Prepared, root: &Path) -> Result<LinearReport, Failure> {
@@ -205,14 +228,14 @@ fn simulate(p: &Prepared, root: &Path, req: &SimulateRequest) -> Result<(), Fail
         )
     };
     let runs = api::simulate(p, req, &before, None)?;
-    write_all(&out_dir(root, p.plan())?, &files::simulate(name, &runs)?)?;
+    write_all(&out_dir(root, p.plan())?, &files::simulate(name, &runs))?;
     results(&table::simulate(name, &runs))?;
     Ok(())
 }
 
 pub(super) fn geometry(p: &Prepared, root: &Path) -> Result<GeometryReport, Failure> {
     let g = api::geometry(p);
-    write_all(&out_dir(root, p.plan())?, &files::geometry(&g)?)?;
+    write_all(&out_dir(root, p.plan())?, &files::geometry(&g))?;
     Ok(g)
 }
 

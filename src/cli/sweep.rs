@@ -216,7 +216,7 @@ fn check_recorded_count(shard: Shard, dir: &Path) -> Result<(), Failure> {
 
 /// Writes sweep.csv and the figures.
 fn finish(study: &SweepStudy, dir: &Path, rows: &[PointRecord]) -> Result<(), Failure> {
-    super::commands::write_all(dir, &crate::api::files::sweep(study, rows)?)
+    super::commands::write_all(dir, &crate::api::files::sweep(study, rows))
 }
 
 /// One result over the points: the range where found, the count above range, the rest.
