@@ -126,3 +126,113 @@ fn a_figure_with_nothing_to_draw_is_a_note_and_the_run_succeeds() {
     .expect("JSON");
     assert!(json.get("linear_critical_speed_m_s").is_some());
 }
+
+/// A shipped study with each `(section, key, value)` set (the value as TOML), written into a
+/// scratch folder beside copies of the shipped tables and profiles; `critspeed check` on it.
+fn check_with(study: &str, changes: &[(&str, &str, &str)]) -> (Option<i32>, String) {
+    let dir = scratch(&format!("regression-{study}"));
+    let text = std::fs::read_to_string(root().join("studies").join(study)).expect("study");
+    let mut t: toml::Table = toml::from_str(&text).expect("toml");
+    for (section, key, value) in changes {
+        let v: toml::Table = toml::from_str(&format!("v = {value}")).expect("value");
+        let s = t
+            .entry(section.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        s.as_table_mut()
+            .expect("a section")
+            .insert(key.to_string(), v["v"].clone());
+    }
+    for sub in ["tables", "profiles"] {
+        std::fs::create_dir_all(dir.join(sub)).expect("dir");
+        for e in std::fs::read_dir(root().join("studies").join(sub)).expect("studies") {
+            let p = e.expect("entry").path();
+            std::fs::copy(&p, dir.join(sub).join(p.file_name().expect("name"))).expect("copy");
+        }
+    }
+    let path = dir.join(study);
+    std::fs::write(&path, toml::to_string(&t).expect("toml")).expect("write");
+    let out = critspeed(&["check", path.to_str().expect("utf-8")], &dir);
+    (out.status.code(), stderr(&out))
+}
+
+#[test]
+fn regression_a_geometry_table_without_semi_axes_names_the_table() {
+    let (code, err) = check_with(
+        "dtu-cooperrider-car.toml",
+        &[("contact", "geometry_table", "\"tables/cubic-fold.csv\"")],
+    );
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("contact.creep_coefficients is missing")
+            && err.contains("contact.geometry_table = \"")
+            && err.contains("has no Hertz semi-axes"),
+        "{err}"
+    );
+}
+
+#[test]
+fn regression_an_invalid_sweep_value_names_its_axis() {
+    let text = std::fs::read_to_string(root().join("studies/conicity-wear.toml")).expect("study");
+    let text = text.replace("from = \"1:40\"", "from = 1.0");
+    let dir = scratch("sweep-axis");
+    let path = dir.join("axis.toml");
+    std::fs::write(&path, text).expect("write");
+    let out = critspeed(&["check", path.to_str().expect("utf-8")], &dir);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("sweep.axes[0] (contact.conicity): value 1 gives an invalid study"),
+        "{err}"
+    );
+}
+
+#[test]
+fn regression_profiles_wheels_off_the_rails_exit_2_naming_the_distance_and_gauge() {
+    for (key, value) in [
+        ("half_contact_distance", "0.4"),
+        ("half_contact_distance", "0.9"),
+    ] {
+        let (code, err) = check_with("s1002-uic60.toml", &[("wheelset", key, value)]);
+        assert_eq!(code, Some(2), "{key} = {value}: {err}");
+        assert!(
+            err.contains("wheelset.half_contact_distance")
+                && err.contains("contact.track_gauge = 1.435 m")
+                && err.contains("the wheels cannot touch the rails"),
+            "{err}"
+        );
+    }
+    for gauge in ["0.6", "2.0"] {
+        let (code, err) = check_with("s1002-uic60.toml", &[("contact", "track_gauge", gauge)]);
+        assert_eq!(code, Some(2), "gauge {gauge}: {err}");
+        assert!(err.contains("the wheels cannot touch the rails"), "{err}");
+    }
+}
+
+#[test]
+fn regression_a_centimetre_wheel_is_refused_not_failed() {
+    let (code, err) = check_with(
+        "flange-hysteresis.toml",
+        &[("wheelset", "rolling_radius", "0.01")],
+    );
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("wheelset.rolling_radius = 0.01 m: must lie in [0.02, 2] m"),
+        "{err}"
+    );
+}
+
+#[test]
+fn regression_a_default_lateral_range_beyond_half_the_contact_distance_is_named() {
+    let (code, err) = check_with(
+        "flange-hysteresis.toml",
+        &[
+            ("flange", "clearance", "0.19"),
+            ("wheelset", "half_contact_distance", "0.5"),
+        ],
+    );
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("contact.lateral_range = 0.285") && err.contains("flange.clearance"),
+        "{err}"
+    );
+}

@@ -410,6 +410,7 @@ fn contact_plan(
             c,
             folder.unwrap_or(Path::new("")),
             rail_head_radius.is_some(),
+            w.half_contact_distance,
         )?,
         "cone-on-arc" => {
             let lambda = cone_slope()?;
@@ -510,11 +511,17 @@ fn contact_plan(
         None if rail_head_radius.is_some() || c.geometry == "profiles" => CreepSource::Hertz,
         None if matches!(&geometry, Geometry::Table(t) if t.has_semi_axes()) => CreepSource::Hertz,
         None => {
+            let table = match &geometry {
+                Geometry::Table(t) => format!(
+                    " (contact.geometry_table = {:?} has no Hertz semi-axes a, b)",
+                    t.source
+                ),
+                _ => String::new(),
+            };
             return Err(StudyError::Missing {
                 key: "contact.creep_coefficients".into(),
-                why: "without a rail_head_radius (or Hertz semi-axes in the geometry table) they cannot be computed from the Hertz patch"
-                    .into(),
-            })
+                why: format!("without a rail_head_radius (or Hertz semi-axes in the geometry table) they cannot be computed from the Hertz patch{table}"),
+            });
         }
     };
     let default_range = match &geometry {
@@ -529,6 +536,13 @@ fn contact_plan(
             |v| v > 0.0 && v < 0.5 * w.half_contact_distance,
             "must lie in (0, half_contact_distance/2)",
         )?,
+        None if default_range >= 0.5 * w.half_contact_distance => {
+            return Err(rule(
+                "contact.lateral_range",
+                format!("{default_range} m (the default: 1.5 x flange.clearance, or the table's half-width)"),
+                "must lie in (0, half_contact_distance/2): give contact.lateral_range",
+            ))
+        }
         None => default_range,
     };
     if let Geometry::Table(t) = &geometry {

@@ -160,7 +160,8 @@ pub const RANGES: &[Range] = &[
         "2 t (light rail) to 45 t (heavy haul) per axle"),
     row("wheelset.half_contact_distance", Length, (0.3, 1.0), Bounds::closed(0.01, 10.0),
         "half the contact-point distance of 600 mm to 1676 mm gauges"),
-    row("wheelset.rolling_radius", Length, (0.2, 0.7), Bounds::closed(1e-3, 10.0),
+    // meaningful: scale models down to 1:20, the largest driving wheels (1.15 m) with margin
+    row("wheelset.rolling_radius", Length, (0.2, 0.7), Bounds::closed(0.02, 2.0),
         "wheel diameters of 400 mm to 1400 mm"),
     // [suspension]: the primary, per side
     row("suspension.lateral_stiffness", Stiffness, (0.0, 1e8), STIFFNESS,
