@@ -134,7 +134,12 @@ fn line_plot(
     // a band under the data for the failed points, which have no value
     f.y_range = Some((lo - 3.0 * pad, hi + 1.5 * pad));
     let failed: Vec<(f64, f64)> = points
+        .clone()
         .filter(|(_, r)| !r.is_some_and(PointRecord::ok))
+        .map(|(x, _)| (*x, lo - 1.8 * pad))
+        .collect();
+    let no_hopf: Vec<(f64, f64)> = points
+        .filter(|(_, r)| r.is_some_and(|r| r.ok() && r.no_hopf))
         .map(|(x, _)| (*x, lo - 1.8 * pad))
         .collect();
     if let Some(top) = above.first().map(|p| p.1) {
@@ -148,6 +153,13 @@ fn line_plot(
         f.series.push(Series {
             name: "failed point (no value; reason in sweep.csv)".into(),
             points: failed,
+            style: Style::Crosses,
+        });
+    }
+    if !no_hopf.is_empty() {
+        f.series.push(Series {
+            name: "V_NL not computed: no Hopf point in range".into(),
+            points: no_hopf,
             style: Style::Crosses,
         });
     }
@@ -242,6 +254,7 @@ mod tests {
             nonlinear_located: None,
             above_range: vec![],
             stable_up_to_m_s: None,
+            no_hopf: false,
         }
     }
 
@@ -302,6 +315,18 @@ mod tests {
         let figs = svgs(sweep("t", &s, &rows));
         assert_eq!(figs[0].0, "sweep.svg");
         assert!(figs[0].1.contains("failed point"));
+        // a V_NL without a Hopf point is said so, apart from the failed points
+        let mut no_hopf = rows.clone();
+        no_hopf[1] = PointRecord {
+            failures: vec![],
+            no_hopf: true,
+            ..row(1, None)
+        };
+        let figs = svgs(sweep("t", &s, &no_hopf));
+        assert!(figs[0]
+            .1
+            .contains("V_NL not computed: no Hopf point in range"));
+        assert!(!figs[0].1.contains("failed point"));
         // a result found nowhere gives no line, and no error
         let none = vec![row(0, None), row(1, None)];
         assert!(sweep("t", &s, &none).iter().all(|f| f.svg.is_ok()));
