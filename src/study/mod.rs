@@ -278,34 +278,7 @@ pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyErr
             Dimension::Length,
         )?,
     };
-    let s = &f.suspension;
-    let suspension = Suspension {
-        lateral_stiffness: non_negative(
-            "suspension.lateral_stiffness",
-            &s.lateral_stiffness,
-            Dimension::Stiffness,
-        )?,
-        longitudinal_stiffness: non_negative(
-            "suspension.longitudinal_stiffness",
-            &s.longitudinal_stiffness,
-            Dimension::Stiffness,
-        )?,
-        lateral_damping: non_negative(
-            "suspension.lateral_damping",
-            &s.lateral_damping,
-            Dimension::Damping,
-        )?,
-        longitudinal_damping: non_negative(
-            "suspension.longitudinal_damping",
-            &s.longitudinal_damping,
-            Dimension::Damping,
-        )?,
-        half_spring_spacing: positive(
-            "suspension.half_spring_spacing",
-            &s.half_spring_spacing,
-            Dimension::Length,
-        )?,
-    };
+    let suspension = vehicle::springs("suspension", f.suspension.springs())?;
     let flange = match &f.flange {
         Some(fl) => Some(Flange {
             clearance: positive("flange.clearance", &fl.clearance, Dimension::Length)?,

@@ -1,4 +1,4 @@
-//! Plausible and meaningful ranges of every numeric study key, in one table ([`RANGES`]).
+//! Plausible and meaningful ranges of every numeric study key, in one table ([`ranges`]).
 //!
 //! - **Plausible**: the values of real railway vehicles, from light rail to heavy haul and high
 //!   speed, with some margin. Outside it the study is still computed, and the plan carries a
@@ -146,11 +146,80 @@ const SPACING: Bounds = Bounds::closed(1e-3, 20.0);
 const HEIGHT: Bounds = Bounds::closed(-10.0, 10.0);
 const SPEED: Bounds = Bounds::closed(1e-3, 1e5);
 
+/// The rows of a spring section (`[suspension]`, `[secondary]`): the keys they share.
+macro_rules! springs {
+    ($p:literal, $what:literal) => {
+        [
+            row(
+                concat!($p, ".lateral_stiffness"),
+                Stiffness,
+                (0.0, 1e8),
+                STIFFNESS,
+                concat!($what, " springs, from none to rigid guidance"),
+            ),
+            row(
+                concat!($p, ".longitudinal_stiffness"),
+                Stiffness,
+                (0.0, 1e8),
+                STIFFNESS,
+                concat!($what, " springs, from none to rigid guidance"),
+            ),
+            row(
+                concat!($p, ".lateral_damping"),
+                Damping,
+                (0.0, 2e6),
+                DAMPING,
+                concat!($what, " dampers"),
+            ),
+            row(
+                concat!($p, ".longitudinal_damping"),
+                Damping,
+                (0.0, 2e6),
+                DAMPING,
+                concat!($what, " dampers"),
+            ),
+            row(
+                concat!($p, ".half_spring_spacing"),
+                Length,
+                (0.3, 2.0),
+                SPACING,
+                concat!($what, " springs within the vehicle's width"),
+            ),
+            row(
+                concat!($p, ".vertical_stiffness"),
+                Stiffness,
+                (0.0, 1e8),
+                STIFFNESS,
+                concat!($what, " vertical springs"),
+            ),
+            row(
+                concat!($p, ".vertical_damping"),
+                Damping,
+                (0.0, 2e6),
+                DAMPING,
+                concat!($what, " vertical dampers"),
+            ),
+            row(
+                concat!($p, ".height"),
+                Length,
+                (-1.5, 1.5),
+                HEIGHT,
+                "heights within a bogie frame",
+            ),
+        ]
+    };
+}
+
+/// The spring sections' rows, per side: the primary and the secondary share their keys.
 #[rustfmt::skip]
-/// Every range. Why the numbers: see each `why`; stiffnesses end at 1e11 N/m (a steel bar is
-/// about 1e9 N/m, a Hertz contact 1e9 N/m), dampings at 1e9 N s/m, because beyond that they
-/// swamp the creep forces (about 1e7 N) beyond what an f64 Jacobian resolves.
-pub const RANGES: &[Range] = &[
+const SPRINGS: [[Range; 8]; 2] = [springs!("suspension", "primary"), springs!("secondary", "secondary")];
+
+/// Every range but the spring sections'. Why the numbers: see each `why`; stiffnesses end at
+/// 1e11 N/m (a steel bar is about 1e9 N/m, a Hertz contact 1e9 N/m), dampings at 1e9 N s/m,
+/// because beyond that they swamp the creep forces (about 1e7 N) beyond what an f64 Jacobian
+/// resolves.
+#[rustfmt::skip]
+const OTHERS: &[Range] = &[
     // [wheelset]
     row("wheelset.mass", Mass, (300.0, 4000.0), Bounds::closed(0.1, 1e5),
         "wheelsets from light rail to motored locomotive axles"),
@@ -163,23 +232,6 @@ pub const RANGES: &[Range] = &[
     // meaningful: scale models down to 1:20, the largest driving wheels (1.15 m) with margin
     row("wheelset.rolling_radius", Length, (0.2, 0.7), Bounds::closed(0.02, 2.0),
         "wheel diameters of 400 mm to 1400 mm"),
-    // [suspension]: the primary, per side
-    row("suspension.lateral_stiffness", Stiffness, (0.0, 1e8), STIFFNESS,
-        "primary springs, from none to rigid guidance"),
-    row("suspension.longitudinal_stiffness", Stiffness, (0.0, 1e8), STIFFNESS,
-        "primary springs, from none to rigid guidance"),
-    row("suspension.lateral_damping", Damping, (0.0, 2e6), DAMPING,
-        "primary dampers"),
-    row("suspension.longitudinal_damping", Damping, (0.0, 2e6), DAMPING,
-        "primary dampers"),
-    row("suspension.half_spring_spacing", Length, (0.3, 1.5), SPACING,
-        "springs between the wheels and outside the axle boxes"),
-    row("suspension.vertical_stiffness", Stiffness, (0.0, 1e8), STIFFNESS,
-        "primary vertical springs"),
-    row("suspension.vertical_damping", Damping, (0.0, 2e6), DAMPING,
-        "primary vertical dampers"),
-    row("suspension.height", Length, (-1.5, 1.5), HEIGHT,
-        "heights within a bogie frame"),
     // [bogie]
     row("bogie.mass", Mass, (300.0, 3e4), Bounds::closed(1.0, 1e6),
         "bogie frames, from light rail to locomotive frames with motors"),
@@ -189,29 +241,13 @@ pub const RANGES: &[Range] = &[
         "bogie frames about the longitudinal axis"),
     row("bogie.half_wheelbase", Length, (0.5, 2.5), Bounds::closed(0.01, 50.0),
         "bogie wheelbases of 1 m to 5 m"),
-    // [secondary]: per side
-    row("secondary.lateral_stiffness", Stiffness, (0.0, 1e8), STIFFNESS,
-        "secondary springs and air springs"),
-    row("secondary.longitudinal_stiffness", Stiffness, (0.0, 1e8), STIFFNESS,
-        "secondary springs, traction rods"),
-    row("secondary.lateral_damping", Damping, (0.0, 2e6), DAMPING,
-        "secondary dampers"),
-    row("secondary.longitudinal_damping", Damping, (0.0, 2e6), DAMPING,
-        "secondary dampers"),
-    row("secondary.half_spring_spacing", Length, (0.3, 2.0), SPACING,
-        "secondary springs within the vehicle's width"),
+    // [secondary]: its own keys (the shared ones are in SPRINGS)
     row("secondary.yaw_damping", Damping, (0.0, 1e7), DAMPING,
         "yaw dampers, up to the stiffest high-speed ones"),
     row("secondary.yaw_damper_half_spacing", Length, (0.3, 2.0), SPACING,
         "yaw dampers within the vehicle's width"),
-    row("secondary.vertical_stiffness", Stiffness, (0.0, 1e8), STIFFNESS,
-        "secondary vertical springs"),
-    row("secondary.vertical_damping", Damping, (0.0, 2e6), DAMPING,
-        "secondary vertical dampers"),
     row("secondary.vertical_half_spacing", Length, (0.3, 2.0), SPACING,
         "secondary springs within the vehicle's width"),
-    row("secondary.height", Length, (-1.5, 1.5), HEIGHT,
-        "heights within a bogie frame"),
     // [carbody]
     row("carbody.mass", Mass, (3e3, 1.5e5), Bounds::closed(1.0, 1e7),
         "car bodies from light rail to loaded freight and locomotives"),
@@ -284,10 +320,15 @@ pub const RANGES: &[Range] = &[
         "service speeds up to 720 km/h"),
 ];
 
+/// Every range: the spring sections', then the others.
+pub fn ranges() -> impl Iterator<Item = &'static Range> {
+    SPRINGS.iter().flatten().chain(OTHERS)
+}
+
 /// The row of `key` (an element `key[i]` uses the row of `key`).
 pub fn range(key: &str) -> Option<&'static Range> {
     let base = key.split('[').next().unwrap_or(key);
-    RANGES.iter().find(|r| r.key == base)
+    ranges().find(|r| r.key == base)
 }
 
 /// `Err` naming the key, the value and the meaningful range when `v` lies outside it.
