@@ -105,3 +105,27 @@ fn the_shipped_studies_are_plausible() {
     }
     assert!(seen >= 14, "{seen} studies");
 }
+
+/// docs/studies.md and docs/vehicles.md show every range as the table holds it.
+#[test]
+fn the_docs_show_every_range() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let pages: String = ["docs/studies.md", "docs/vehicles.md"]
+        .iter()
+        .map(|p| std::fs::read_to_string(root.join(p)).expect("page"))
+        .collect();
+    for r in ranges() {
+        let unit = match r.dim.si_unit() {
+            "" => "–",
+            u => u,
+        };
+        let row = format!(
+            "| `{}` | {unit} | {} | {} | {} |",
+            r.key,
+            r.plausible.show(""),
+            r.meaningful.show(""),
+            r.why
+        );
+        assert!(pages.lines().any(|l| l == row), "not in the docs: {row}");
+    }
+}
