@@ -236,3 +236,16 @@ fn regression_a_default_lateral_range_beyond_half_the_contact_distance_is_named(
         "{err}"
     );
 }
+
+#[test]
+fn regression_a_missing_section_names_the_layout_that_needs_it() {
+    let (code, err) = check_with(
+        "dtu-bogie-stability-map.toml",
+        &[("vehicle", "kind", "\"car\"")],
+    );
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("carbody is missing: vehicle.kind = \"car\" needs its car body"),
+        "{err}"
+    );
+}

@@ -94,7 +94,10 @@ fn body(
 fn frame(f: &StudyFile) -> Result<FrameParams, StudyError> {
     let b = f.bogie.as_ref().ok_or_else(|| StudyError::Missing {
         key: "bogie".into(),
-        why: "a bogie or a car needs its frame: mass, yaw_inertia, half_wheelbase".into(),
+        why: format!(
+            "{} needs its frame: mass, yaw_inertia, half_wheelbase",
+            layout(f)
+        ),
     })?;
     let (mass, yaw_inertia, roll_inertia) =
         body("bogie", &b.mass, &b.yaw_inertia, b.roll_inertia.as_ref())?;
@@ -109,7 +112,7 @@ fn frame(f: &StudyFile) -> Result<FrameParams, StudyError> {
 fn secondary(f: &StudyFile) -> Result<Secondary, StudyError> {
     let s = f.secondary.as_ref().ok_or_else(|| StudyError::Missing {
         key: "secondary".into(),
-        why: "a bogie or a car needs its secondary suspension".into(),
+        why: format!("{} needs its secondary suspension", layout(f)),
     })?;
     use Dimension::*;
     let k = springs("secondary", s.springs())?;
@@ -157,7 +160,10 @@ fn secondary(f: &StudyFile) -> Result<Secondary, StudyError> {
 fn carbody(f: &StudyFile, frame: &FrameParams) -> Result<CarBodyParams, StudyError> {
     let c = f.carbody.as_ref().ok_or_else(|| StudyError::Missing {
         key: "carbody".into(),
-        why: "a car needs its car body: mass, yaw_inertia, half_bogie_distance".into(),
+        why: format!(
+            "{} needs its car body: mass, yaw_inertia, half_bogie_distance",
+            layout(f)
+        ),
     })?;
     let lb = positive(
         "carbody.half_bogie_distance",
@@ -183,6 +189,12 @@ fn carbody(f: &StudyFile, frame: &FrameParams) -> Result<CarBodyParams, StudyErr
         half_bogie_distance: lb,
         secondary_height: height("carbody.secondary_height", c.secondary_height.as_ref())?,
     })
+}
+
+/// The layout as the study chooses it, for messages: `vehicle.kind = "car"`.
+fn layout(f: &StudyFile) -> String {
+    let kind = f.vehicle.as_ref().map_or("wheelset", |v| v.kind.as_str());
+    format!("vehicle.kind = {kind:?}")
 }
 
 /// A section the layout does not use is an error that says so.
