@@ -249,3 +249,30 @@ fn regression_a_missing_section_names_the_layout_that_needs_it() {
         "{err}"
     );
 }
+
+/// `check`'s JSON lists the warnings, and has no `warnings` key without them (then it stays a
+/// study).
+#[test]
+fn check_json_lists_the_warnings() {
+    use critspeed::api::{check, check_json, Source};
+    let json = |text: &str| {
+        check_json(
+            &check(&Source::text(text, "t"))
+                .map_err(|e| e.message())
+                .expect("valid"),
+        )
+        .map_err(|e| e.message())
+        .expect("json")
+    };
+    let plain = json(&seed_with("mass", "\"1250 kg\""));
+    assert!(plain.get("warnings").is_none());
+    let heavy = json(&seed_with("mass", "\"5 t\""));
+    let w = heavy["warnings"].as_array().expect("a list");
+    assert_eq!(w.len(), 1);
+    assert!(
+        w[0].as_str().is_some_and(|m| m.starts_with(
+            "wheelset.mass = 5000 kg lies outside the plausible range [300, 4000] kg"
+        )),
+        "{w:?}"
+    );
+}
