@@ -10,6 +10,34 @@ use crate::analysis::{GeometryReport, LinearReport};
 use crate::plot::{render_grid, render_svg, Figure, Marker, PlotError, Series, Style};
 use crate::stability::{CriticalSpeeds, Spectrum};
 
+/// A figure file: its name, its size (px) and its SVG, or why it could not be rendered (the
+/// caller writes a note in its place: [`crate::plot::drawing`]).
+#[derive(Debug)]
+pub struct Rendered {
+    /// file name, e.g. `damping.svg`
+    pub file: String,
+    /// width and height (px)
+    pub size: (u32, u32),
+    /// the SVG, or the reason it could not be drawn
+    pub svg: Result<String, PlotError>,
+}
+
+fn render(file: &str, fig: &Figure, width: u32, height: u32) -> Rendered {
+    Rendered {
+        file: file.into(),
+        size: (width, height),
+        svg: render_svg(fig, width, height),
+    }
+}
+
+fn render_panels(file: &str, figs: &[Figure], cols: usize, width: u32, height: u32) -> Rendered {
+    Rendered {
+        file: file.into(),
+        size: (width, height),
+        svg: render_grid(figs, cols, width, height),
+    }
+}
+
 fn figure(title: &str, x_label: &str, y_label: &str) -> Figure {
     Figure {
         title: title.into(),
@@ -66,7 +94,7 @@ fn damping_series(name: &str, spectra: &[Spectrum], dashed: bool) -> Series {
 }
 
 /// `root_locus.svg` and `damping.svg`.
-pub fn linear(r: &LinearReport) -> Result<Vec<(String, String)>, PlotError> {
+pub fn linear(r: &LinearReport) -> Vec<Rendered> {
     let mut locus = figure(
         &format!(
             "{}: root locus of the oscillatory modes (Kalker creep; real modes off scale)",
@@ -116,10 +144,10 @@ pub fn linear(r: &LinearReport) -> Result<Vec<(String, String)>, PlotError> {
         at: 0.0,
         label: "ζ = 0".into(),
     });
-    Ok(vec![
-        ("root_locus.svg".into(), render_svg(&locus, 900, 650)?),
-        ("damping.svg".into(), render_svg(&damping, 900, 600)?),
-    ])
+    vec![
+        render("root_locus.svg", &locus, 900, 650),
+        render("damping.svg", &damping, 900, 600),
+    ]
 }
 
 fn line(name: &str, points: Vec<(f64, f64)>, dashed: bool) -> Series {
@@ -132,7 +160,7 @@ fn line(name: &str, points: Vec<(f64, f64)>, dashed: bool) -> Series {
 
 /// `geometry.svg`: rolling-radius difference, contact angles, roll, and the centred Hertz
 /// ellipse (the seed's Figs. 6, 5 and 8), lengths in mm.
-pub fn geometry(g: &GeometryReport) -> Result<String, PlotError> {
+pub fn geometry(g: &GeometryReport) -> Rendered {
     let n = g.rows.len();
     let ymm = |k: usize| g.rows[k].y * 1e3;
     let mut dr = figure(
@@ -204,7 +232,7 @@ pub fn geometry(g: &GeometryReport) -> Result<String, PlotError> {
         ellipse.y_range = Some((-r, r));
         panels.push(ellipse);
     }
-    render_grid(&panels, 2, 1200, 900)
+    render_panels("geometry.svg", &panels, 2, 1200, 900)
 }
 
 /// The runs of equal stability along the cycles of one branch, as (stable, points) with each
@@ -229,10 +257,10 @@ fn stability_runs(cycles: &[&crate::bifurcation::CycleRow]) -> Vec<(bool, Vec<(f
 /// `bifurcation.svg`: lateral amplitude against speed, every branch in the colour of its kind
 /// (symmetric, asymmetric, period-2, …), stable cycles solid, unstable dashed, the centred
 /// solution along the axis, the special points by kind, Hopf, Kalker and V_NL marked.
-pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> Result<String, PlotError> {
+pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> Rendered {
     let mut fig = bifurcation_figure(r);
     headroom(&mut fig);
-    render_svg(&fig, 1000, 650)
+    render("bifurcation.svg", &fig, 1000, 650)
 }
 
 /// `attractors.svg`: every attractor the search found, amplitude (the leading wheelset's max
@@ -241,7 +269,7 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> Result<String, 
 pub fn attractors(
     r: &crate::attractors::AttractorReport,
     b: &crate::bifurcation::BifurcationReport,
-) -> Result<String, PlotError> {
+) -> Rendered {
     let mut fig = bifurcation_figure(b);
     fig.title = format!("{}: attractors over the continued branches", r.study);
     for a in &r.attractors {
@@ -271,7 +299,7 @@ pub fn attractors(
         });
     }
     headroom(&mut fig);
-    render_svg(&fig, 1100, 700)
+    render("attractors.svg", &fig, 1100, 700)
 }
 
 /// Room above the data for the legend: the y range from just below 0 to well above the largest
@@ -448,7 +476,7 @@ fn bifurcation_figure(r: &crate::bifurcation::BifurcationReport) -> Figure {
 }
 
 /// `simulate.svg`: y(t) and ψ(t) for each speed, and the y–ẏ phase portrait.
-pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> Result<String, PlotError> {
+pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> Rendered {
     let mut y = figure(
         &format!("{study}: lateral displacement"),
         "time t (s)",
@@ -472,12 +500,12 @@ pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> Result<St
             false,
         ));
     }
-    render_grid(&[y, psi, phase], 1, 1100, 1300)
+    render_panels("simulate.svg", &[y, psi, phase], 1, 1100, 1300)
 }
 
 /// `ramp.svg`: the leading wheelset's peak amplitude against speed during the ramp, and the
 /// EN 14363 sliding r.m.s. of the sum of guiding forces of every wheelset against its limit.
-pub fn ramp(study: &str, r: &crate::simulate::RampResult) -> Result<String, PlotError> {
+pub fn ramp(study: &str, r: &crate::simulate::RampResult) -> Rendered {
     let mut amp = figure(
         &format!("{study}: ramp at {:.4} m/s² (peaks of |y|)", r.options.rate),
         "speed V (m/s)",
@@ -527,11 +555,12 @@ pub fn ramp(study: &str, r: &crate::simulate::RampResult) -> Result<String, Plot
         });
         panels.push(en);
     }
-    render_grid(&panels, 1, 1000, 450 * panels.len() as u32)
+    let height = 450 * panels.len() as u32;
+    render_panels("ramp.svg", &panels, 1, 1000, height)
 }
 
 /// `conicity.svg`: equivalent conicity against amplitude.
-pub fn conicity(name: &str, c: &[crate::conicity::Conicity]) -> Result<String, PlotError> {
+pub fn conicity(name: &str, c: &[crate::conicity::Conicity]) -> Rendered {
     let mut fig = figure(
         &format!("{name}: equivalent conicity (EN 15302)"),
         "amplitude ŷ (mm)",
@@ -544,5 +573,5 @@ pub fn conicity(name: &str, c: &[crate::conicity::Conicity]) -> Result<String, P
             .collect(),
         false,
     ));
-    render_svg(&fig, 900, 600)
+    render("conicity.svg", &fig, 900, 600)
 }

@@ -18,7 +18,9 @@ to ``out/<study name>/`` as with ``critspeed --out OUT``.
 
 Errors: a bad study or argument raises :class:`StudyError` (a ``ValueError``) whose message is
 the command line's (it names the key, the value and the rule); a numerical failure raises
-:class:`ComputationError` (a ``RuntimeError``).
+:class:`ComputationError` (a ``RuntimeError``). What the command line prints as ``warning: …``
+(a value outside its plausible range, a figure written as a note because it has nothing to
+draw) is issued as a :class:`CritspeedWarning` (a ``UserWarning``) through :mod:`warnings`.
 
 Threads and the GIL: every call releases the GIL while it computes. The long ones
 (:func:`bifurcation`, :func:`sweep`, :func:`simulate`) run on a worker thread and check for
@@ -30,6 +32,7 @@ point or simulated speed) and ``KeyboardInterrupt`` is raised. A sweep interrupt
 from __future__ import annotations
 
 import os
+import warnings
 from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -43,10 +46,12 @@ __all__ = [
     "__version__",
     "StudyError",
     "ComputationError",
+    "CritspeedWarning",
     "check",
     "linear",
     "bifurcation",
     "curve",
+    "attractors",
     "simulate",
     "sweep",
     "conicity",
@@ -60,6 +65,19 @@ Quantity = Union[float, int, str]
 """A number in SI units, or a string with a unit (``"5 mm"``, ``"200 km/h"``)."""
 
 PathLike = Union[str, "os.PathLike[str]"]
+
+
+class CritspeedWarning(UserWarning):
+    """A study value outside its plausible range (the study is computed as given), or a figure
+    written as a note saying why it has nothing to draw (the numbers are returned and written)."""
+
+
+def _warned(result: Tuple[Any, ...]) -> Any:
+    """The native result without its last element, the warnings, which are issued."""
+    *value, messages = result
+    for m in messages:
+        warnings.warn(m, CritspeedWarning, stacklevel=3)
+    return value[0] if len(value) == 1 else tuple(value)
 
 
 def _study(study: Study) -> Tuple[str, Any]:
@@ -117,10 +135,13 @@ def check(study: Study) -> Dict[str, Any]:
     check(s)``). The ``[sweep]`` and ``[trade]`` sections, when present, are validated (every
     sweep value must give a valid study) and returned as written.
 
+    Values outside their plausible ranges are issued as :class:`CritspeedWarning`.
+
     Raises :class:`StudyError` naming the key, the value and the rule.
     """
     kind, value = _study(study)
-    return _native.check(kind, value)
+    plan = _native.check(kind, value)
+    return _warned((plan, plan.pop("warnings", [])))
 
 
 def linear(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, Any]:
@@ -138,7 +159,7 @@ def linear(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, Any]:
     ``out/<name>/``.
     """
     kind, value = _study(study)
-    return _native.linear(kind, value, _out(out))
+    return _warned(_native.linear(kind, value, _out(out)))
 
 
 def bifurcation(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, Any]:
@@ -156,7 +177,7 @@ def bifurcation(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, An
     ``bifurcation.json``, ``branch.csv`` and ``bifurcation.svg``.
     """
     kind, value = _study(study)
-    report, cols = _native.bifurcation(kind, value, _out(out))
+    report, cols = _warned(_native.bifurcation(kind, value, _out(out)))
     report["branch"] = _columns(cols)
     return report
 
@@ -179,8 +200,32 @@ def curve(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, Any]:
     With ``out``, writes ``curve.json``, ``curve.csv`` and ``curve.svg``.
     """
     kind, value = _study(study)
-    report, cols = _native.curve(kind, value, _out(out))
+    report, cols = _warned(_native.curve(kind, value, _out(out)))
     report["points"] = _columns(cols)
+    return report
+
+
+def attractors(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, Any]:
+    """Every hunting attractor and the one nonlinear critical speed: ``critspeed attractors
+    STUDY --json``'s object, as a dict.
+
+    Keys as the command prints them: ``"nonlinear_critical_speed_m_s"`` (the lowest over the
+    continuation with branch switching and the search), ``"nonlinear_critical_speed_sources"``
+    (each method's lowest candidate: ``"method"``, ``"what"``, ``"speed_m_s"``,
+    ``"bracket_m_s"``), ``"search_critical_speed_m_s"`` and ``"bracket_m_s"`` (the search's own),
+    ``"attractors"`` (``"kind"``, ``"speed_range_m_s"``, ``"dies_bracket_m_s"``, ``"fate"``,
+    ``"path"`` with the amplitudes of every body at each speed), ``"speeds"`` (the basin
+    fractions at each speed of the grid), ``"notes"``, ``"disagreement"``; plus ``"motions"``:
+    ``{column of attractors.csv: numpy array}``.
+
+    Studies without an ``[attractors]`` section use its defaults. Releases the GIL; Ctrl-C
+    stops it between continuation steps and simulations (``KeyboardInterrupt``). With ``out``,
+    writes the continuation's files and ``attractors.json``, ``attractors.csv``,
+    ``attractors.svg``.
+    """
+    kind, value = _study(study)
+    report, cols = _warned(_native.attractors(kind, value, _out(out)))
+    report["motions"] = _columns(cols)
     return report
 
 
@@ -214,7 +259,7 @@ def simulate(
         _quantity("dt", dt, "time"),
         _out(out),
     )
-    return _columns(cols)
+    return _columns(_warned(cols))
 
 
 def sweep(
@@ -237,7 +282,7 @@ def sweep(
     if threads is not None and (isinstance(threads, bool) or threads < 1):
         raise StudyError(f"threads = {threads!r}: must be at least 1")
     kind, value = _study(study)
-    return _columns(_native.sweep(kind, value, threads, _out(out)))
+    return _columns(_warned(_native.sweep(kind, value, threads, _out(out))))
 
 
 def conicity(
@@ -268,7 +313,7 @@ def conicity(
         table = ([float(v) for v in y], [float(v) for v in dr])
     else:
         kind, value = _study(study)
-    return _native.conicity(kind, value, amps, _out(out), table)
+    return _warned(_native.conicity(kind, value, amps, _out(out), table))
 
 
 def geometry(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, np.ndarray]:
@@ -278,4 +323,4 @@ def geometry(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, np.nd
     lateral displacement ``y_m`` (the table ``critspeed geometry`` writes).
     """
     kind, value = _study(study)
-    return _columns(_native.geometry(kind, value, _out(out)))
+    return _columns(_warned(_native.geometry(kind, value, _out(out))))

@@ -2,6 +2,10 @@
 //! the command line calls). It converts arguments and results and manages the GIL and Ctrl-C;
 //! it computes nothing itself. The public Python API, with its docstrings, is
 //! `critspeed/__init__.py`.
+//!
+//! Every computing function returns `(result, warnings)`: the messages the command line prints
+//! as `warning: …` (values outside their plausible ranges, figures written as a note), which
+//! the Python layer issues as `critspeed.CritspeedWarning`.
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -37,56 +41,63 @@ fn raise(f: Failure) -> PyErr {
     }
 }
 
-/// A Python object (from a study dict) as JSON; floats keep their exact value.
-fn to_json(o: &Bound<'_, PyAny>, key: &str) -> PyResult<Value> {
+fn user(message: String) -> PyErr {
+    StudyError::new_err(message)
+}
+
+/// A study dict's value as TOML, the one conversion of a dict study (the library reads the
+/// TOML as it reads a file). `key` is the dotted path, named in every refusal.
+fn to_toml(o: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
     if o.is_none() {
-        return Ok(Value::Null);
+        return Err(user(format!(
+            "{key} = None: a study value must be a number, a string, a boolean, a list or a table"
+        )));
     }
     if let Ok(b) = o.cast::<PyBool>() {
-        return Ok(Value::Bool(b.is_true()));
+        return Ok(toml::Value::Boolean(b.is_true()));
     }
     if o.is_instance_of::<PyInt>() {
         let i: i64 = o
             .extract()
-            .map_err(|_| StudyError::new_err(format!("{key} = {o}: integer out of range")))?;
-        return Ok(Value::from(i));
+            .map_err(|_| user(format!("{key} = {o}: integer out of range")))?;
+        return Ok(toml::Value::Integer(i));
     }
     if let Ok(f) = o.cast::<PyFloat>() {
-        let v = f.value();
-        return serde_json::Number::from_f64(v)
-            .map(Value::Number)
-            .ok_or_else(|| StudyError::new_err(format!("{key} = {v}: must be finite")));
+        return match f.value() {
+            v if v.is_finite() => Ok(toml::Value::Float(v)),
+            v => Err(user(format!("{key} = {v}: must be finite"))),
+        };
     }
     if let Ok(s) = o.cast::<PyString>() {
-        return Ok(Value::String(s.extract::<String>()?));
+        return Ok(toml::Value::String(s.extract::<String>()?));
     }
     if let Ok(d) = o.cast::<PyDict>() {
-        let mut m = serde_json::Map::new();
+        let mut t = toml::Table::new();
         for (k, v) in d.iter() {
-            let k: String = k.extract().map_err(|_| {
-                StudyError::new_err(format!("{key}: keys must be strings, found {k:?}"))
-            })?;
+            let k: String = k
+                .extract()
+                .map_err(|_| user(format!("{key}: keys must be strings, found {k:?}")))?;
             let sub = if key.is_empty() {
                 k.clone()
             } else {
                 format!("{key}.{k}")
             };
-            m.insert(k, to_json(&v, &sub)?);
+            t.insert(k, to_toml(&v, &sub)?);
         }
-        return Ok(Value::Object(m));
+        return Ok(toml::Value::Table(t));
     }
     if o.is_instance_of::<PyList>() || o.is_instance_of::<PyTuple>() {
         let mut a = Vec::new();
         for (i, v) in o.try_iter()?.enumerate() {
-            a.push(to_json(&v?, &format!("{key}[{i}]"))?);
+            a.push(to_toml(&v?, &format!("{key}[{i}]"))?);
         }
-        return Ok(Value::Array(a));
+        return Ok(toml::Value::Array(a));
     }
     // numpy scalars and other numbers
     if let Ok(v) = o.extract::<f64>() {
-        return to_json(&PyFloat::new(o.py(), v), key);
+        return to_toml(&PyFloat::new(o.py(), v), key);
     }
-    Err(StudyError::new_err(format!(
+    Err(user(format!(
         "{key} = {o}: a study value must be a number, a string, a boolean, a list or a dict"
     )))
 }
@@ -155,42 +166,60 @@ fn source(kind: &str, value: &Bound<'_, PyAny>) -> PyResult<Source> {
     match kind {
         "path" => Source::file(&value.extract::<PathBuf>()?).map_err(raise),
         "text" => Ok(Source::text(&value.extract::<String>()?, "<TOML text>")),
-        "dict" => Source::json(&to_json(value, "")?, "<dict>").map_err(raise),
+        "dict" => match to_toml(value, "")? {
+            toml::Value::Table(t) => Source::table(&t, "<dict>").map_err(raise),
+            _ => Err(user("<dict>: a study must be a table (a dict)".into())),
+        },
         _ => Err(PyValueError::new_err(format!(
             "unknown study kind {kind:?}"
         ))),
     }
 }
 
-/// Writes the files `make` renders into `out/<name>/`, when `out` is given (rendering the
-/// figures costs time: nothing is rendered without `out`).
-fn write(
+/// A plan prepared for analyses, its plausibility warnings taken into `warnings`.
+fn prepare(src: &Source, warnings: &mut Vec<String>) -> Result<Prepared, Failure> {
+    let plan = src.plan()?;
+    warnings.extend(plan.warnings.iter().map(ToString::to_string));
+    Prepared::new(plan)
+}
+
+/// Writes the files `make` renders into `out/<name>/` when `out` is given (rendering the
+/// figures costs time: nothing is rendered without `out`); figures written as a note add
+/// their warnings.
+fn save(
     out: Option<&PathBuf>,
     name: &str,
-    make: impl FnOnce() -> Result<Vec<files::File>, Failure>,
-) -> PyResult<()> {
+    warnings: &mut Vec<String>,
+    make: impl FnOnce() -> Result<files::Output, Failure>,
+) -> Result<(), Failure> {
     if let Some(root) = out {
-        let dir = files::folder(root, name).map_err(raise)?;
-        files::write(&dir, &make().map_err(raise)?, &mut |_| {}).map_err(raise)?;
+        let dir = files::folder(root, name)?;
+        let o = make()?;
+        files::write(&dir, &o, &mut |_| {})?;
+        warnings.extend(o.warnings);
     }
     Ok(())
 }
 
-/// Runs `f` on a worker thread with the GIL released, while this thread checks for signals
-/// (Ctrl-C) every 50 ms. On a signal the cancellation flag is raised, the worker stops at its
-/// next check (between continuation steps, sweep points, simulated speeds) and the signal's
-/// exception (KeyboardInterrupt) is raised.
-fn interruptible<T: Send>(
+/// Runs `f` with the GIL released. A `long` computation runs on a worker thread while this
+/// thread checks for signals (Ctrl-C) every 50 ms: on a signal the cancellation flag is raised,
+/// the worker stops at its next check (between continuation steps, sweep points, simulated
+/// speeds) and the signal's exception (KeyboardInterrupt) is raised.
+fn call<T: Send>(
     py: Python<'_>,
-    f: impl FnOnce(&(dyn Fn() -> bool + Sync)) -> Result<T, Failure> + Send,
+    long: bool,
+    f: impl FnOnce(api::Cancel<'_>) -> Result<T, Failure> + Send,
 ) -> PyResult<T> {
+    if !long {
+        return py.detach(|| f(None)).map_err(raise);
+    }
     let flag = AtomicBool::new(false);
     let cancel = || flag.load(Ordering::Relaxed);
     let (done, result) = py.detach(|| {
         std::thread::scope(|scope| {
             let (tx, rx) = mpsc::channel();
             let worker = scope.spawn(move || {
-                let r = f(&cancel);
+                let r = f(Some(&cancel));
                 let _ = tx.send(());
                 r
             });
@@ -238,7 +267,8 @@ fn quantity(name: &str, text: &str, dim: &str) -> PyResult<f64> {
     api::quantity(name, text, d).map_err(raise)
 }
 
-/// The resolved plan (and the [sweep]/[trade] sections) as a dict.
+/// The resolved plan (and the [sweep]/[trade] sections) as a dict, with `warnings` when a
+/// value lies outside its plausible range.
 #[pyfunction]
 fn check<'py>(
     py: Python<'py>,
@@ -246,8 +276,8 @@ fn check<'py>(
     value: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let src = source(kind, value)?;
-    let checked = py.detach(|| api::check(&src)).map_err(raise)?;
-    to_py(py, &api::check_json(&checked).map_err(raise)?)
+    let json = call(py, false, |_| api::check_json(&api::check(&src)?))?;
+    to_py(py, &json)
 }
 
 /// `linear --json`'s object.
@@ -258,20 +288,16 @@ fn linear<'py>(
     kind: &str,
     value: &Bound<'py, PyAny>,
     out: Option<PathBuf>,
-) -> PyResult<Bound<'py, PyAny>> {
+) -> PyResult<(Bound<'py, PyAny>, Vec<String>)> {
     let src = source(kind, value)?;
-    let (name, json, written) = py
-        .detach(|| -> Result<_, Failure> {
-            let p = Prepared::new(src.plan()?)?;
-            let r = api::linear(&p)?;
-            let f = out.as_ref().map(|_| files::linear(&r));
-            Ok((p.plan().name.clone(), critspeed::output::linear_json(&r), f))
-        })
-        .map_err(raise)?;
-    if let Some(f) = written {
-        write(out.as_ref(), &name, || f)?;
-    }
-    to_py(py, &json)
+    let (json, w) = call(py, false, |_| {
+        let mut w = Vec::new();
+        let p = prepare(&src, &mut w)?;
+        let r = api::linear(&p)?;
+        save(out.as_ref(), &p.plan().name, &mut w, || files::linear(&r))?;
+        Ok((critspeed::output::linear_json(&r), w))
+    })?;
+    Ok((to_py(py, &json)?, w))
 }
 
 /// `bifurcation --json`'s object and the columns of branch.csv.
@@ -282,20 +308,26 @@ fn bifurcation<'py>(
     kind: &str,
     value: &Bound<'py, PyAny>,
     out: Option<PathBuf>,
-) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyList>)> {
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyList>, Vec<String>)> {
     let src = source(kind, value)?;
-    let r = interruptible(py, |cancel| {
-        let p = Prepared::new(src.plan()?)?;
+    let (r, w) = call(py, true, |cancel| {
+        let mut w = Vec::new();
+        let p = prepare(&src, &mut w)?;
         let hooks = Hooks {
             progress: None,
-            cancel: Some(cancel),
+            cancel,
         };
-        api::bifurcation(&p, hooks)
+        let r = api::bifurcation(&p, hooks)?;
+        save(out.as_ref(), &r.study, &mut w, || files::bifurcation(&r))?;
+        Ok((r, w))
     })?;
-    write(out.as_ref(), &r.study, || files::bifurcation(&r))?;
     let json = critspeed::output::bifurcation_json(&r);
     let csv = critspeed::output::branch_csv(&r);
-    Ok((to_py(py, &json)?, columns_py(py, &csv, api::kinds::BRANCH)?))
+    Ok((
+        to_py(py, &json)?,
+        columns_py(py, &csv, api::kinds::BRANCH)?,
+        w,
+    ))
 }
 
 /// `curve --json`'s object and the columns of curve.csv.
@@ -306,16 +338,61 @@ fn curve<'py>(
     kind: &str,
     value: &Bound<'py, PyAny>,
     out: Option<PathBuf>,
-) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyList>)> {
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyList>, Vec<String>)> {
     let src = source(kind, value)?;
-    let r = interruptible(py, |cancel| {
+    let (r, w) = call(py, true, |cancel| {
+        let mut w = Vec::new();
         let study = api::curve::curve_study(&src)?;
-        api::curve::curve(&study, Some(cancel))
+        let r = api::curve::curve(&study, cancel)?;
+        save(out.as_ref(), &r.study, &mut w, || api::curve::files(&r))?;
+        Ok((r, w))
     })?;
-    write(out.as_ref(), &r.study, || api::curve::files(&r))?;
     let json = critspeed::output::curve_json(&r);
     let csv = critspeed::output::curve_csv(&r);
-    Ok((to_py(py, &json)?, columns_py(py, &csv, api::kinds::CURVE)?))
+    Ok((
+        to_py(py, &json)?,
+        columns_py(py, &csv, api::kinds::CURVE)?,
+        w,
+    ))
+}
+
+/// `attractors --json`'s object (with the one V_NL of the continuation and the search) and the
+/// columns of attractors.csv.
+#[pyfunction]
+#[pyo3(signature = (kind, value, out=None))]
+fn attractors<'py>(
+    py: Python<'py>,
+    kind: &str,
+    value: &Bound<'py, PyAny>,
+    out: Option<PathBuf>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyList>, Vec<String>)> {
+    let src = source(kind, value)?;
+    let (json, csv, w) = call(py, true, |cancel| {
+        let mut w = Vec::new();
+        let p = prepare(&src, &mut w)?;
+        let hooks = Hooks {
+            progress: None,
+            cancel,
+        };
+        let (r, b) = api::attractors(&p, hooks, None)?;
+        save(out.as_ref(), &r.study, &mut w, || {
+            let mut o = files::bifurcation(&b)?;
+            let a = files::attractors(&r, &b)?;
+            o.files.extend(a.files);
+            o.warnings.extend(a.warnings);
+            Ok(o)
+        })?;
+        Ok((
+            critspeed::output::attractors_json(&r, &b),
+            critspeed::output::attractors_csv(&r),
+            w,
+        ))
+    })?;
+    Ok((
+        to_py(py, &json)?,
+        columns_py(py, &csv, api::kinds::ATTRACTORS)?,
+        w,
+    ))
 }
 
 /// The columns of simulate.csv.
@@ -331,7 +408,7 @@ fn simulate<'py>(
     duration: f64,
     dt: f64,
     out: Option<PathBuf>,
-) -> PyResult<Bound<'py, PyList>> {
+) -> PyResult<(Bound<'py, PyList>, Vec<String>)> {
     let src = source(kind, value)?;
     let req = SimulateRequest {
         speeds,
@@ -339,17 +416,17 @@ fn simulate<'py>(
         duration,
         dt,
     };
-    let (name, runs) = interruptible(py, |cancel| {
-        let p = Prepared::new(src.plan()?)?;
-        let runs = api::simulate(&p, &req, &|_| {}, Some(cancel))?;
-        Ok((p.plan().name.clone(), runs))
+    let (csv, w) = call(py, true, |cancel| {
+        let mut w = Vec::new();
+        let p = prepare(&src, &mut w)?;
+        let runs = api::simulate(&p, &req, &|_| {}, cancel)?;
+        let name = &p.plan().name;
+        save(out.as_ref(), name, &mut w, || {
+            Ok(files::simulate(name, &runs))
+        })?;
+        Ok((critspeed::output::simulate_csv(&runs), w))
     })?;
-    write(out.as_ref(), &name, || files::simulate(&name, &runs))?;
-    columns_py(
-        py,
-        &critspeed::output::simulate_csv(&runs),
-        api::kinds::NUMBERS,
-    )
+    Ok((columns_py(py, &csv, api::kinds::NUMBERS)?, w))
 }
 
 /// The columns of sweep.csv. With `out`, resumable like the CLI (records file in out/<name>/).
@@ -361,14 +438,14 @@ fn sweep<'py>(
     value: &Bound<'py, PyAny>,
     threads: Option<usize>,
     out: Option<PathBuf>,
-) -> PyResult<Bound<'py, PyList>> {
+) -> PyResult<(Bound<'py, PyList>, Vec<String>)> {
     let src = source(kind, value)?;
-    let (study, rows) = interruptible(py, |cancel| {
+    let (csv, w) = call(py, true, |cancel| {
         let study = src.sweep_study()?;
+        let mut w = api::sweep_warnings(&study);
+        let name = &study.base.name;
         let records = match &out {
-            Some(root) => {
-                Some(files::folder(root, &study.base.name)?.join(Shard::ALL.records_file()))
-            }
+            Some(root) => Some(files::folder(root, name)?.join(Shard::ALL.records_file())),
             None => None,
         };
         let opts = SweepOptions {
@@ -376,17 +453,13 @@ fn sweep<'py>(
             shard: Shard::ALL,
             records,
         };
-        let res = api::sweep(&study, &opts, None, Some(cancel))?;
-        Ok((study, res.rows))
+        let rows = api::sweep(&study, &opts, None, cancel)?.rows;
+        save(out.as_ref(), name, &mut w, || {
+            Ok(files::sweep(&study, &rows))
+        })?;
+        Ok((critspeed::sweep::sweep_csv(&study.spec.axes, &rows), w))
     })?;
-    write(out.as_ref(), &study.base.name, || {
-        files::sweep(&study, &rows)
-    })?;
-    columns_py(
-        py,
-        &critspeed::sweep::sweep_csv(&study.spec.axes, &rows),
-        api::kinds::SWEEP,
-    )
+    Ok((columns_py(py, &csv, api::kinds::SWEEP)?, w))
 }
 
 /// `conicity --json`'s object, from a study or a Δr table (`y`, `dr` in metres).
@@ -399,40 +472,41 @@ fn conicity<'py>(
     amplitudes: Option<Vec<f64>>,
     out: Option<PathBuf>,
     table: Option<(Vec<f64>, Vec<f64>)>,
-) -> PyResult<Bound<'py, PyAny>> {
+) -> PyResult<(Bound<'py, PyAny>, Vec<String>)> {
     let input = match table {
         Some((y, dr)) => Err((y, dr)),
         None => Ok(source(kind, value)?),
     };
-    let (name, results) = py
-        .detach(|| -> Result<_, Failure> {
-            let (name, dr) = match input {
-                Ok(src) => {
-                    let p = Prepared::new(src.plan()?)?;
-                    (p.plan().name.clone(), api::delta_r(&p)?)
+    let (json, w) = call(py, false, |_| {
+        let mut w = Vec::new();
+        let (name, dr) = match input {
+            Ok(src) => {
+                let p = prepare(&src, &mut w)?;
+                (p.plan().name.clone(), api::delta_r(&p)?)
+            }
+            Err((y, dr)) => {
+                if y.len() != dr.len() {
+                    return Err(Failure::User(anyhow::anyhow!(
+                        "delta_r: y has {} values, dr {}; they must pair up",
+                        y.len(),
+                        dr.len()
+                    )));
                 }
-                Err((y, dr)) => {
-                    if y.len() != dr.len() {
-                        return Err(Failure::User(anyhow::anyhow!(
-                            "delta_r: y has {} values, dr {}; they must pair up",
-                            y.len(),
-                            dr.len()
-                        )));
-                    }
-                    let pts = y.into_iter().zip(dr).collect();
-                    let t = critspeed::conicity::DeltaR::new(pts, "delta_r")
-                        .map_err(|e| Failure::User(e.into()))?;
-                    ("delta_r".to_string(), t)
-                }
-            };
-            let explicit = amplitudes.is_some();
-            let amps = amplitudes.unwrap_or_else(api::default_amplitudes);
-            let (results, _) = api::conicity(&dr, &amps, explicit)?;
-            Ok((name, results))
-        })
-        .map_err(raise)?;
-    write(out.as_ref(), &name, || files::conicity(&name, &results))?;
-    to_py(py, &api::conicity_json(&results))
+                let pts = y.into_iter().zip(dr).collect();
+                let t = critspeed::conicity::DeltaR::new(pts, "delta_r")
+                    .map_err(|e| Failure::User(e.into()))?;
+                ("delta_r".to_string(), t)
+            }
+        };
+        let explicit = amplitudes.is_some();
+        let amps = amplitudes.unwrap_or_else(api::default_amplitudes);
+        let (results, _) = api::conicity(&dr, &amps, explicit)?;
+        save(out.as_ref(), &name, &mut w, || {
+            Ok(files::conicity(&name, &results))
+        })?;
+        Ok((api::conicity_json(&results), w))
+    })?;
+    Ok((to_py(py, &json)?, w))
 }
 
 /// The columns of geometry.csv.
@@ -443,17 +517,15 @@ fn geometry<'py>(
     kind: &str,
     value: &Bound<'py, PyAny>,
     out: Option<PathBuf>,
-) -> PyResult<Bound<'py, PyList>> {
+) -> PyResult<(Bound<'py, PyList>, Vec<String>)> {
     let src = source(kind, value)?;
-    let g = py
-        .detach(|| -> Result<_, Failure> { Ok(api::geometry(&Prepared::new(src.plan()?)?)) })
-        .map_err(raise)?;
-    write(out.as_ref(), &g.study, || files::geometry(&g))?;
-    columns_py(
-        py,
-        &critspeed::output::geometry_csv(&g),
-        api::kinds::NUMBERS,
-    )
+    let (csv, w) = call(py, false, |_| {
+        let mut w = Vec::new();
+        let g = api::geometry(&prepare(&src, &mut w)?);
+        save(out.as_ref(), &g.study, &mut w, || Ok(files::geometry(&g)))?;
+        Ok((critspeed::output::geometry_csv(&g), w))
+    })?;
+    Ok((columns_py(py, &csv, api::kinds::NUMBERS)?, w))
 }
 
 #[pymodule]
@@ -466,6 +538,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(linear, m)?)?;
     m.add_function(wrap_pyfunction!(bifurcation, m)?)?;
     m.add_function(wrap_pyfunction!(curve, m)?)?;
+    m.add_function(wrap_pyfunction!(attractors, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(conicity, m)?)?;

@@ -243,17 +243,24 @@ def test_an_interrupted_sweep_resumes_from_its_records(tmp_path):
 
 
 def test_a_numerical_failure_raises_computation_error_with_the_cli_message(tmp_path):
-    # S1002 on UIC60 at a 1200 mm gauge: the wheels cannot sit on the rails, the rigid contact
-    # solve fails at the centre (the CLI exits with 1)
+    # S1002 on UIC60 with the taping lines 70 mm inside their place: the wheels reach the rail
+    # heads, but the contact point leaves the wheel's running part at the centre (the CLI
+    # exits with 1)
     text = (REPO / "studies" / "s1002-uic60.toml").read_text()
     text = text.replace('"profiles/', f'"{REPO / "studies" / "profiles"}/')
-    text = text.replace('track_gauge = "1435 mm"', 'track_gauge = "1200 mm"')
+    narrow = text.replace('half_contact_distance = "750 mm"', 'half_contact_distance = "680 mm"')
     f = tmp_path / "narrow.toml"
-    f.write_text(text)
+    f.write_text(narrow)
     p = cli("linear", f, "--out", tmp_path, check=False)
     assert p.returncode == 1, p.stderr
     with pytest.raises(critspeed.ComputationError) as e:
         critspeed.linear(f)
-    assert "rigid contact solve did not converge" in str(e.value)
+    assert "leaves the wheel profile's running part" in str(e.value)
     assert p.stderr.strip() == "computation failed: " + str(e.value)
     assert not (tmp_path / "s1002-uic60").exists()
+    # at a 1200 mm gauge the wheels cannot reach the rails at all: refused before computing
+    gauge = tmp_path / "gauge.toml"
+    gauge.write_text(text.replace('track_gauge = "1435 mm"', 'track_gauge = "1200 mm"'))
+    assert cli("linear", gauge, "--out", tmp_path, check=False).returncode == 2
+    with pytest.raises(critspeed.StudyError, match="wheels cannot touch the rails"):
+        critspeed.linear(gauge)

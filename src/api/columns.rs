@@ -37,12 +37,8 @@ pub enum Column {
 
 /// The column types of `branch.csv` (numbers but `branch_kind` and `stable`).
 pub const BRANCH: &[(&str, Kind)] = &[("branch_kind", Kind::Text), ("stable", Kind::Bool)];
-/// The column types of `attractors.csv` (numbers but the kinds, `stable` flags and texts).
-pub const ATTRACTORS: &[(&str, Kind)] = &[
-    ("row", Kind::Text),
-    ("kind", Kind::Text),
-    ("fate", Kind::Text),
-];
+/// The column types of `attractors.csv` (numbers but `source` and `kind`).
+pub const ATTRACTORS: &[(&str, Kind)] = &[("source", Kind::Text), ("kind", Kind::Text)];
 /// The column types of `sweep.csv` (numbers but `status` and `nonlinear_located`).
 pub const SWEEP: &[(&str, Kind)] = &[("status", Kind::Text), ("nonlinear_located", Kind::OptBool)];
 /// The column types of `simulate.csv` and `geometry.csv`: all numbers.

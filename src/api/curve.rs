@@ -2,7 +2,7 @@
 
 use anyhow::anyhow;
 
-use super::files::File;
+use super::files::Output;
 use super::{compute, user, Cancel, Failure, Kind, Source};
 use crate::curve::keyed::KeyedStudy;
 use crate::curve::{CurveError, CurveReport, CurveSpec};
@@ -62,12 +62,10 @@ pub fn curve(study: &CurveStudy, cancel: Cancel<'_>) -> Result<CurveReport, Fail
 }
 
 /// `curve.json`, `curve.csv` and `curve.svg`.
-pub fn files(r: &CurveReport) -> Result<Vec<File>, Failure> {
+pub fn files(r: &CurveReport) -> Result<Output, Failure> {
     let json = serde_json::to_string_pretty(&crate::output::curve_json(r)).map_err(compute)?;
-    let svg = crate::figures::curve(r).map_err(|e| compute(anyhow!(e)))?;
-    Ok(vec![
-        ("curve.json".into(), json.into_bytes()),
-        ("curve.csv".into(), crate::output::curve_csv(r).into_bytes()),
-        ("curve.svg".into(), svg.into_bytes()),
-    ])
+    Ok(Output::default()
+        .text("curve.json", json)
+        .text("curve.csv", crate::output::curve_csv(r))
+        .figure(crate::figures::curve(r), "curve.json and curve.csv"))
 }

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{anyhow, Context};
+use anyhow::Context;
 
 use super::{compute, Failure};
 use crate::analysis::{GeometryReport, LinearReport};
@@ -17,42 +17,68 @@ use crate::sweep::{PointRecord, SweepStudy};
 /// A file's name and contents.
 pub type File = (String, Vec<u8>);
 
+/// The files of a command, and what is wrong with them: figures that could not be drawn are
+/// written as a note saying why (the numbers files hold the results), and said here.
+#[derive(Debug, Default)]
+pub struct Output {
+    /// `(file name, bytes)` in the order the CLI writes them
+    pub files: Vec<File>,
+    /// one message per figure written as a note, naming the file, the reason and the numbers
+    pub warnings: Vec<String>,
+}
+
+impl Output {
+    pub(crate) fn text(mut self, name: &str, text: String) -> Self {
+        self.files.push((name.into(), text.into_bytes()));
+        self
+    }
+
+    /// A figure, or the note in its place; `numbers` names the files that hold its results.
+    pub(crate) fn figure(mut self, f: figures::Rendered, numbers: &str) -> Self {
+        let d = crate::plot::drawing(&f.file, f.svg, numbers, f.size);
+        if let Some(why) = d.empty {
+            self.warnings.push(format!(
+                "{} has nothing to draw ({why}); written as a note, the results are in {numbers}",
+                f.file
+            ));
+        }
+        self.files.push((f.file, d.svg.into_bytes()));
+        self
+    }
+
+    fn figures(self, fs: Vec<figures::Rendered>, numbers: &str) -> Self {
+        fs.into_iter().fold(self, |o, f| o.figure(f, numbers))
+    }
+}
+
+/// A figure written where a command writes its own files (`ramp.svg`, `trade.svg`): its bytes
+/// and, when it is a note, the warning.
+pub fn figure(f: figures::Rendered, numbers: &str) -> (Vec<u8>, Option<String>) {
+    let mut o = Output::default().figure(f, numbers);
+    (
+        o.files.pop().map(|f| f.1).unwrap_or_default(),
+        o.warnings.pop(),
+    )
+}
+
 fn json_text(v: &serde_json::Value) -> Result<String, Failure> {
     serde_json::to_string_pretty(v).map_err(compute)
 }
 
-fn plot(e: crate::plot::PlotError) -> Failure {
-    compute(anyhow!(e))
-}
-
 /// `linear.json`, `spectrum.csv` and the linear figures.
-pub fn linear(r: &LinearReport) -> Result<Vec<File>, Failure> {
-    let mut f = vec![
-        (
-            "linear.json".into(),
-            json_text(&output::linear_json(r))?.into_bytes(),
-        ),
-        ("spectrum.csv".into(), output::spectrum_csv(r).into_bytes()),
-    ];
-    for (name, svg) in figures::linear(r).map_err(plot)? {
-        f.push((name, svg.into_bytes()));
-    }
-    Ok(f)
+pub fn linear(r: &LinearReport) -> Result<Output, Failure> {
+    Ok(Output::default()
+        .text("linear.json", json_text(&output::linear_json(r))?)
+        .text("spectrum.csv", output::spectrum_csv(r))
+        .figures(figures::linear(r), "linear.json and spectrum.csv"))
 }
 
 /// `bifurcation.json`, `branch.csv` and `bifurcation.svg`.
-pub fn bifurcation(r: &BifurcationReport) -> Result<Vec<File>, Failure> {
-    Ok(vec![
-        (
-            "bifurcation.json".into(),
-            json_text(&output::bifurcation_json(r))?.into_bytes(),
-        ),
-        ("branch.csv".into(), output::branch_csv(r).into_bytes()),
-        (
-            "bifurcation.svg".into(),
-            figures::bifurcation(r).map_err(plot)?.into_bytes(),
-        ),
-    ])
+pub fn bifurcation(r: &BifurcationReport) -> Result<Output, Failure> {
+    Ok(Output::default()
+        .text("bifurcation.json", json_text(&output::bifurcation_json(r))?)
+        .text("branch.csv", output::branch_csv(r))
+        .figure(figures::bifurcation(r), "bifurcation.json and branch.csv"))
 }
 
 /// `attractors.json`, `attractors.csv` and `attractors.svg` (with the continuation `b` that
@@ -60,58 +86,41 @@ pub fn bifurcation(r: &BifurcationReport) -> Result<Vec<File>, Failure> {
 pub fn attractors(
     r: &crate::attractors::AttractorReport,
     b: &BifurcationReport,
-) -> Result<Vec<File>, Failure> {
-    Ok(vec![
-        (
-            "attractors.json".into(),
-            json_text(&output::attractors_json(r, b))?.into_bytes(),
-        ),
-        (
-            "attractors.csv".into(),
-            output::attractors_csv(r).into_bytes(),
-        ),
-        (
-            "attractors.svg".into(),
-            figures::attractors(r, b).map_err(plot)?.into_bytes(),
-        ),
-    ])
+) -> Result<Output, Failure> {
+    Ok(Output::default()
+        .text(
+            "attractors.json",
+            json_text(&output::attractors_json(r, b))?,
+        )
+        .text("attractors.csv", output::attractors_csv(r))
+        .figure(
+            figures::attractors(r, b),
+            "attractors.json and attractors.csv",
+        ))
 }
 
 /// `simulate.csv` and `simulate.svg`.
-pub fn simulate(study: &str, runs: &[TimeHistory]) -> Result<Vec<File>, Failure> {
-    Ok(vec![
-        (
-            "simulate.csv".into(),
-            output::simulate_csv(runs).into_bytes(),
-        ),
-        (
-            "simulate.svg".into(),
-            figures::simulate(study, runs).map_err(plot)?.into_bytes(),
-        ),
-    ])
+pub fn simulate(study: &str, runs: &[TimeHistory]) -> Output {
+    Output::default()
+        .text("simulate.csv", output::simulate_csv(runs))
+        .figure(figures::simulate(study, runs), "simulate.csv")
 }
 
 /// `geometry.csv` and `geometry.svg`.
-pub fn geometry(g: &GeometryReport) -> Result<Vec<File>, Failure> {
-    Ok(vec![
-        ("geometry.csv".into(), output::geometry_csv(g).into_bytes()),
-        (
-            "geometry.svg".into(),
-            figures::geometry(g).map_err(plot)?.into_bytes(),
-        ),
-    ])
+pub fn geometry(g: &GeometryReport) -> Output {
+    Output::default()
+        .text("geometry.csv", output::geometry_csv(g))
+        .figure(figures::geometry(g), "geometry.csv")
 }
 
 /// `sweep.csv` and the sweep's figures.
-pub fn sweep(study: &SweepStudy, rows: &[PointRecord]) -> Result<Vec<File>, Failure> {
-    let mut f = vec![(
-        "sweep.csv".into(),
-        crate::sweep::sweep_csv(&study.spec.axes, rows).into_bytes(),
-    )];
-    for (name, svg) in figures::sweep(&study.base.name, &study.spec, rows).map_err(plot)? {
-        f.push((name, svg.into_bytes()));
-    }
-    Ok(f)
+pub fn sweep(study: &SweepStudy, rows: &[PointRecord]) -> Output {
+    Output::default()
+        .text("sweep.csv", crate::sweep::sweep_csv(&study.spec.axes, rows))
+        .figures(
+            figures::sweep(&study.base.name, &study.spec, rows),
+            "sweep.csv",
+        )
 }
 
 /// The text of `conicity.csv`.
@@ -127,14 +136,10 @@ pub fn conicity_csv(results: &[Conicity]) -> String {
 }
 
 /// `conicity.csv` and `conicity.svg`.
-pub fn conicity(name: &str, results: &[Conicity]) -> Result<Vec<File>, Failure> {
-    Ok(vec![
-        ("conicity.csv".into(), conicity_csv(results).into_bytes()),
-        (
-            "conicity.svg".into(),
-            figures::conicity(name, results).map_err(plot)?.into_bytes(),
-        ),
-    ])
+pub fn conicity(name: &str, results: &[Conicity]) -> Output {
+    Output::default()
+        .text("conicity.csv", conicity_csv(results))
+        .figure(figures::conicity(name, results), "conicity.csv")
 }
 
 /// The folder `root/name`, created if needed.
@@ -144,9 +149,9 @@ pub fn folder(root: &Path, name: &str) -> Result<PathBuf, Failure> {
         .map_err(compute)
 }
 
-/// Writes `files` into `dir`, calling `wrote` with each path written.
-pub fn write(dir: &Path, files: &[File], wrote: &mut dyn FnMut(&Path)) -> Result<(), Failure> {
-    for (name, bytes) in files {
+/// Writes the files into `dir`, calling `wrote` with each path written.
+pub fn write(dir: &Path, out: &Output, wrote: &mut dyn FnMut(&Path)) -> Result<(), Failure> {
+    for (name, bytes) in &out.files {
         let path = output::write(dir, name, bytes)
             .with_context(|| format!("writing {}", dir.join(name).display()))
             .map_err(compute)?;

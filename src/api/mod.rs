@@ -3,7 +3,7 @@
 //! printed by `critspeed linear --json` and one returned by `critspeed.linear()` come from the
 //! same code path.
 //!
-//! The surface is kept small on purpose: a [`Source`] (file, TOML text or JSON object) gives a
+//! The surface is kept small on purpose: a [`Source`] (file, TOML text or a TOML table) gives a
 //! validated [`Plan`]; [`Prepared`] is a plan with its model built (the model type never
 //! crosses this surface); each analysis returns its plain report, [`files`] turns a report into
 //! the bytes of the files the CLI writes, and [`columns`] reads one of those CSV files back as
@@ -325,6 +325,36 @@ pub(crate) fn sweep_failure(e: crate::sweep::SweepError) -> Failure {
     }
 }
 
+/// The plausibility warnings of a study with a sweep: the base plan's, and one per axis whose
+/// values leave the key's plausible range.
+pub fn sweep_warnings(s: &SweepStudy) -> Vec<String> {
+    let mut w: Vec<String> = s.base.warnings.iter().map(ToString::to_string).collect();
+    for (i, a) in s.spec.axes.iter().enumerate() {
+        let out: Vec<_> = a
+            .values
+            .iter()
+            .filter_map(|v| crate::study::plausible::plausible(&a.key, *v))
+            .collect();
+        if let (Some(first), Some(last)) = (out.first(), out.last()) {
+            let unit = match first.unit {
+                "" => String::new(),
+                u => format!(" {u}"),
+            };
+            w.push(format!(
+                "sweep.axes[{i}] ({}): {} of {} values, {} to {}{unit}, lie outside the plausible range {} ({}); computed as given",
+                a.key,
+                out.len(),
+                a.values.len(),
+                crate::study::plausible::si(first.value),
+                crate::study::plausible::si(last.value),
+                first.plausible.show(first.unit),
+                first.why
+            ));
+        }
+    }
+    w
+}
+
 /// What `check` found: the plan, and the `[sweep]`, `[trade]` and `[curve]` sections, validated.
 pub struct Checked {
     /// the resolved plan
@@ -333,6 +363,8 @@ pub struct Checked {
     pub sweep: Option<SweepStudy>,
     /// the `[sweep]`, `[trade]` and `[curve]` tables as written, when present
     pub sections: Vec<(String, toml::Value)>,
+    /// values outside their plausible ranges (the plan's and the sweep axes')
+    pub warnings: Vec<String>,
 }
 
 /// Validates a study with its `[sweep]`, `[trade]` and `[curve]` sections.
@@ -359,22 +391,31 @@ pub fn check(source: &Source) -> Result<Checked, Failure> {
         .iter()
         .filter_map(|k| raw.get(*k).map(|v| (k.to_string(), v.clone())))
         .collect();
+    let warnings = match &sweep {
+        Some(s) => sweep_warnings(s),
+        None => plan.warnings.iter().map(ToString::to_string).collect(),
+    };
     Ok(Checked {
         plan,
         sweep,
         sections,
+        warnings,
     })
 }
 
 /// The resolved plan in SI as JSON (what `critspeed check` prints as a table: the study file's
 /// sections and keys, every quantity a number in SI, defaults filled), with the `[sweep]`,
-/// `[trade]` and `[curve]` sections as written. For the cone and cone-on-arc geometries the object is itself
-/// a valid study that resolves to the same plan.
+/// `[trade]` and `[curve]` sections as written, and `warnings` (a list of messages) when a value
+/// lies outside its plausible range. For the cone and cone-on-arc geometries the object without
+/// `warnings` is itself a valid study that resolves to the same plan.
 pub fn check_json(c: &Checked) -> Result<Value, Failure> {
     let mut v = crate::output::plan_json(&c.plan);
     if let Value::Object(m) = &mut v {
         for (k, t) in &c.sections {
             m.insert(k.clone(), serde_json::to_value(t).map_err(compute)?);
+        }
+        if !c.warnings.is_empty() {
+            m.insert("warnings".into(), json!(c.warnings));
         }
     }
     Ok(v)

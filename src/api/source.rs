@@ -1,9 +1,8 @@
-//! Where a study comes from: a file, TOML text, or a JSON object with the same structure.
+//! Where a study comes from: a file, TOML text, or a TOML table with the same structure.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::anyhow;
-use serde_json::Value;
 
 use super::{user, Failure};
 use crate::study::schema::StudyFile;
@@ -47,14 +46,11 @@ impl Source {
         }
     }
 
-    /// A JSON object with the study file's structure (a Python dict): numbers in SI or strings
-    /// with units, exactly as in a file. `null` is refused, naming its key.
-    pub fn json(value: &Value, origin: &str) -> Result<Self, Failure> {
-        let table = match to_toml(value, "")? {
-            toml::Value::Table(t) => t,
-            _ => return Err(user(anyhow!("{origin}: a study must be a table (a dict)"))),
-        };
-        let text = toml::to_string(&table)
+    /// A study given as a TOML table with the study file's structure (a Python dict): numbers
+    /// in SI or strings with units, exactly as in a file; relative paths in it are taken from
+    /// the current directory.
+    pub fn table(table: &toml::Table, origin: &str) -> Result<Self, Failure> {
+        let text = toml::to_string(table)
             .map_err(|e| user(anyhow!("{origin}: cannot be written as TOML: {e}")))?;
         Ok(Self::text(&text, origin))
     }
@@ -79,40 +75,4 @@ impl Source {
         SweepStudy::parse_in(&self.text, &self.origin, self.folder.as_deref())
             .map_err(super::sweep_failure)
     }
-}
-
-/// JSON to TOML; the key path names a `null` (TOML has none) or a number JSON cannot hold.
-fn to_toml(v: &Value, key: &str) -> Result<toml::Value, Failure> {
-    let at = |k: &str| {
-        if key.is_empty() {
-            k.to_string()
-        } else {
-            format!("{key}.{k}")
-        }
-    };
-    Ok(match v {
-        Value::Null => {
-            return Err(user(anyhow!(
-            "{key} = None: a study value must be a number, a string, a boolean, a list or a table"
-        )))
-        }
-        Value::Bool(b) => toml::Value::Boolean(*b),
-        Value::Number(n) => match (n.as_i64(), n.as_f64()) {
-            (Some(i), _) => toml::Value::Integer(i),
-            (None, Some(f)) => toml::Value::Float(f),
-            (None, None) => return Err(user(anyhow!("{key} = {n}: not a number TOML can hold"))),
-        },
-        Value::String(s) => toml::Value::String(s.clone()),
-        Value::Array(a) => toml::Value::Array(
-            a.iter()
-                .enumerate()
-                .map(|(i, x)| to_toml(x, &format!("{key}[{i}]")))
-                .collect::<Result<_, _>>()?,
-        ),
-        Value::Object(m) => toml::Value::Table(
-            m.iter()
-                .map(|(k, x)| Ok((k.clone(), to_toml(x, &at(k))?)))
-                .collect::<Result<_, Failure>>()?,
-        ),
-    })
 }

@@ -75,6 +75,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
         }
         Command::Check { study } => {
             let checked = api::check(&Source::file(study)?)?;
+            warn(&checked.warnings);
             let mut sections = String::new();
             if let Some(s) = &checked.sweep {
                 let keys: Vec<String> = s
@@ -98,7 +99,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
             let model = build(&checked.plan)?;
             results(&format!(
                 "{}{}{sections}",
-                table::plan(&checked.plan),
+                table::plan(&checked.plan, &checked.warnings),
                 table::vehicle(&model)
             ))?;
             Ok(())
@@ -106,8 +107,18 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
     }
 }
 
+/// The validated plan of a study file; its plausibility warnings go to stderr.
 pub(super) fn load(path: &Path) -> Result<Plan, Failure> {
-    Source::file(path)?.plan()
+    let plan = Source::file(path)?.plan()?;
+    warn(&plan.warnings);
+    Ok(plan)
+}
+
+/// Each message on stderr as `warning: …`.
+pub(super) fn warn<T: std::fmt::Display>(warnings: &[T]) {
+    for w in warnings {
+        statusln!("warning: {w}");
+    }
 }
 
 pub(super) fn prepare(plan: Plan) -> Result<Prepared, Failure> {
@@ -127,13 +138,36 @@ pub(super) fn out_dir(root: &Path, plan: &Plan) -> Result<PathBuf, Failure> {
     files::folder(root, &plan.name)
 }
 
-/// Writes the files into `dir`, saying so on stderr.
-pub(super) fn write_all(dir: &Path, f: &[files::File]) -> Result<(), Failure> {
-    files::write(dir, f, &mut |p| statusln!("wrote {}", p.display()))
+/// Writes the files into `dir`, saying so on stderr, with a warning for each figure written as
+/// a note.
+pub(super) fn write_all(dir: &Path, out: &files::Output) -> Result<(), Failure> {
+    files::write(dir, out, &mut |p| statusln!("wrote {}", p.display()))?;
+    warn(&out.warnings);
+    Ok(())
 }
 
 pub(super) fn write(dir: &Path, file: &str, bytes: &[u8]) -> Result<(), Failure> {
-    write_all(dir, &[(file.to_string(), bytes.to_vec())])
+    write_all(
+        dir,
+        &files::Output {
+            files: vec![(file.to_string(), bytes.to_vec())],
+            warnings: Vec::new(),
+        },
+    )
+}
+
+/// Writes a figure, or the note in its place with a warning; `numbers` names the files that
+/// hold its results.
+pub(super) fn write_figure(
+    dir: &Path,
+    f: crate::figures::Rendered,
+    numbers: &str,
+) -> Result<(), Failure> {
+    let file = f.file.clone();
+    let (bytes, warning) = files::figure(f, numbers);
+    write(dir, &file, &bytes)?;
+    warn(&warning.into_iter().collect::<Vec<_>>());
+    Ok(())
 }
 
 pub(super) fn linear(p: &Prepared, root: &Path) -> Result<LinearReport, Failure> {
@@ -215,14 +249,14 @@ fn simulate(p: &Prepared, root: &Path, req: &SimulateRequest) -> Result<(), Fail
         )
     };
     let runs = api::simulate(p, req, &before, None)?;
-    write_all(&out_dir(root, p.plan())?, &files::simulate(name, &runs)?)?;
+    write_all(&out_dir(root, p.plan())?, &files::simulate(name, &runs))?;
     results(&table::simulate(name, &runs))?;
     Ok(())
 }
 
 pub(super) fn geometry(p: &Prepared, root: &Path) -> Result<GeometryReport, Failure> {
     let g = api::geometry(p);
-    write_all(&out_dir(root, p.plan())?, &files::geometry(&g)?)?;
+    write_all(&out_dir(root, p.plan())?, &files::geometry(&g))?;
     Ok(g)
 }
 

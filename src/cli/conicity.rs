@@ -58,7 +58,7 @@ pub fn run(a: &ConicityArgs, root: &Path) -> Result<(), Failure> {
     }
     let dir = root.join(&name);
     std::fs::create_dir_all(&dir).map_err(compute)?;
-    write_all(&dir, &files::conicity(&name, &results)?)?;
+    write_all(&dir, &files::conicity(&name, &results))?;
     if a.json {
         let text = serde_json::to_string_pretty(&api::conicity_json(&results)).map_err(compute)?;
         console::results(&format!("{text}\n"))?;

@@ -241,8 +241,11 @@ pub fn run(a: &RampArgs, root: &Path) -> Result<(), Failure> {
     write(&dir, "ramp.json", text.as_bytes())?;
     write(&dir, "ramp.csv", envelope_csv(&result).as_bytes())?;
     write(&dir, "en14363.csv", en14363_csv(&result).as_bytes())?;
-    let svg = figures::ramp(&plan.name, &result).map_err(|e| compute(anyhow!(e)))?;
-    write(&dir, "ramp.svg", svg.as_bytes())?;
+    super::commands::write_figure(
+        &dir,
+        figures::ramp(&plan.name, &result),
+        "ramp.json, ramp.csv and en14363.csv",
+    )?;
     if a.json {
         results(&format!("{text}\n"))?;
     } else {

@@ -96,6 +96,7 @@ pub(super) fn compute_points(
     root: &Path,
 ) -> Result<Option<(SweepStudy, Vec<PointRecord>)>, Failure> {
     let study = SweepStudy::load(&args.study).map_err(failure)?;
+    super::commands::warn(&crate::api::sweep_warnings(&study));
     if args.threads == Some(0) {
         return Err(user(anyhow!("--threads 0: must be at least 1")));
     }
@@ -215,16 +216,18 @@ fn check_recorded_count(shard: Shard, dir: &Path) -> Result<(), Failure> {
 
 /// Writes sweep.csv and the figures.
 fn finish(study: &SweepStudy, dir: &Path, rows: &[PointRecord]) -> Result<(), Failure> {
-    super::commands::write_all(dir, &crate::api::files::sweep(study, rows)?)
+    super::commands::write_all(dir, &crate::api::files::sweep(study, rows))
 }
 
-/// One result over the points: the range where found, the count above range, the rest.
+/// One result over the points: the range where found, the count above range, the count
+/// without a Hopf point in range (V_NL), the rest.
 fn result_line(rows: &[PointRecord], which: Computed) -> String {
-    let (mut found, mut above, mut missing) = (Vec::new(), Vec::new(), 0);
+    let (mut found, mut above, mut no_hopf, mut missing) = (Vec::new(), Vec::new(), 0, 0);
     for r in rows {
         match r.outcome(which) {
             Outcome::Found { speed_m_s, .. } => found.push(speed_m_s),
             Outcome::AboveRange { stable_up_to_m_s } => above.push(stable_up_to_m_s),
+            Outcome::NoHopf => no_hopf += 1,
             Outcome::Missing => missing += 1,
         }
     }
@@ -247,6 +250,11 @@ fn result_line(rows: &[PointRecord], which: Computed) -> String {
             above.len()
         ));
     }
+    if no_hopf > 0 {
+        parts.push(format!(
+            "not computed at {no_hopf} points: no Hopf point in range (the branch starts there)"
+        ));
+    }
     if missing > 0 {
         parts.push(format!("failed at {missing} points"));
     }
@@ -256,16 +264,21 @@ fn result_line(rows: &[PointRecord], which: Computed) -> String {
 /// Point counts by status, and each result's range, with units.
 fn summary(study: &SweepStudy, rows: &[PointRecord]) -> String {
     let failed = rows.iter().filter(|r| !r.ok()).count();
-    let above = rows
+    let partly = rows
         .iter()
-        .filter(|r| r.ok() && r.has_above_range())
+        .filter(|r| r.ok() && (r.has_above_range() || r.no_hopf))
         .count();
+    let no_hopf = rows.iter().filter(|r| r.ok() && r.no_hopf).count();
     let mut s = format!(
-        "sweep '{}': {} points: {} ok, {above} above range, {failed} failed\n",
+        "sweep '{}': {} points: {} ok, {partly} above range, {failed} failed",
         study.base.name,
         rows.len(),
-        rows.len() - failed - above
+        rows.len() - failed - partly
     );
+    if no_hopf > 0 {
+        s += &format!(" (V_NL not computed at {no_hopf}: no Hopf point in range)");
+    }
+    s.push('\n');
     let c = study.spec.compute;
     for (on, which, name) in [
         (

@@ -3,9 +3,6 @@
 use std::fmt::Write as _;
 
 use crate::analysis::{GeometryReport, LinearReport};
-use crate::contact::creep::CreepLaw;
-use crate::contact::geometry::Geometry;
-use crate::contact::table::CreepSource;
 use crate::stability::CriticalSpeeds;
 use crate::study::Plan;
 
@@ -200,135 +197,24 @@ fn geometry_events(s: &mut String, g: &GeometryReport) {
     }
 }
 
-/// The resolved plan in SI.
-pub fn plan(p: &Plan) -> String {
+/// The resolved plan in SI, one key a line (and how many values lie outside their plausible
+/// ranges: the warnings themselves go to stderr).
+pub fn plan(p: &Plan, warnings: &[String]) -> String {
     let mut s = String::new();
-    let w = &p.wheelset;
-    let u = &p.suspension;
-    let c = &p.contact;
     let _ = writeln!(s, "study '{}' is valid. Resolved plan (SI units):", p.name);
     if !p.description.is_empty() {
         let _ = writeln!(s, "  {}", p.description);
     }
-    let mut line = |k: &str, v: String| {
-        let _ = writeln!(s, "  {k:<36} {v}");
-    };
-    line("wheelset.mass", format!("{} kg", w.mass));
-    line("wheelset.yaw_inertia", format!("{} kg m^2", w.yaw_inertia));
-    line("wheelset.axle_load", format!("{} N", w.axle_load));
-    line(
-        "wheelset.half_contact_distance",
-        format!("{} m", w.half_contact_distance),
-    );
-    line("wheelset.rolling_radius", format!("{} m", w.rolling_radius));
-    line(
-        "suspension.lateral_stiffness",
-        format!("{} N/m", u.lateral_stiffness),
-    );
-    line(
-        "suspension.longitudinal_stiffness",
-        format!("{} N/m", u.longitudinal_stiffness),
-    );
-    line(
-        "suspension.lateral_damping",
-        format!("{} N s/m", u.lateral_damping),
-    );
-    line(
-        "suspension.longitudinal_damping",
-        format!("{} N s/m", u.longitudinal_damping),
-    );
-    line(
-        "suspension.half_spring_spacing",
-        format!("{} m", u.half_spring_spacing),
-    );
-    vehicle_lines(p, &mut line);
-    match &c.geometry {
-        &Geometry::Cone { conicity } => {
-            line("contact.geometry", "cone".into());
-            line("contact.conicity", format!("{conicity}"));
-        }
-        &Geometry::ConeOnArc {
-            conicity,
-            rail_head_radius,
-            crown_offset,
-        } => {
-            line("contact.geometry", "cone-on-arc".into());
-            line("contact.conicity", format!("{conicity}"));
-            line("contact.rail_head_radius", format!("{rail_head_radius} m"));
-            line("contact.crown_offset", format!("{crown_offset} m"));
-        }
-        Geometry::Table(t) => {
-            line("contact.geometry", "table".into());
-            line("contact.geometry_table", t.source.clone());
-        }
-        Geometry::Profiles { pair, smoothing } => {
-            line("contact.geometry", "profiles".into());
-            line("contact.wheel_profile", pair.files.0.clone());
-            line("contact.rail_profile", pair.files.1.clone());
-            line("contact.track_gauge", format!("{} m", pair.track.gauge));
-            line(
-                "contact.gauge_depth",
-                format!("{} m", pair.track.gauge_depth),
-            );
-            line(
-                "contact.rail_inclination",
-                format!("{} rad (applied to the rail file)", pair.track.inclination),
-            );
-            line("contact.profile_smoothing", format!("{smoothing} m"));
-        }
+    for e in crate::study::entries::entries(p) {
+        let _ = writeln!(s, "  {:<36} {}", e.key, e.shown);
     }
-    match c.creep_law {
-        CreepLaw::Kalker => line("contact.creep_law", "kalker".into()),
-        CreepLaw::Shen { friction } => {
-            line("contact.creep_law", "shen".into());
-            line("contact.friction", format!("{friction}"));
-        }
+    if !warnings.is_empty() {
+        let _ = writeln!(
+            s,
+            "{} value(s) outside the plausible ranges: see the warnings on stderr",
+            warnings.len()
+        );
     }
-    line("contact.spin", format!("{}", c.spin));
-    line(
-        "contact.young_modulus",
-        format!("{} Pa", c.elastic.young_modulus),
-    );
-    line(
-        "contact.poisson_ratio",
-        format!("{}", c.elastic.poisson_ratio),
-    );
-    line(
-        "contact.shear_modulus",
-        format!("{} Pa", c.elastic.shear_modulus),
-    );
-    match c.creep {
-        CreepSource::Given(k) => line(
-            "contact.creep_coefficients",
-            format!(
-                "f11 = {} N, f22 = {} N, f23 = {} N m, f33 = {} N m^2 (given)",
-                k.f11, k.f22, k.f23, k.f33
-            ),
-        ),
-        CreepSource::Hertz => line(
-            "contact.creep_coefficients",
-            match &c.geometry {
-                Geometry::Table(t) if t.has_kalker() => {
-                    "from the geometry table's a, b and Kalker C at each contact state (C33 from Kalker's table unless tabulated)".into()
-                }
-                _ => "from the Hertz patch and Kalker's table at each contact state".into(),
-            },
-        ),
-    }
-    line("contact.lateral_range", format!("{} m", c.lateral_range));
-    line("contact.table_points", format!("{}", c.table_points));
-    line("contact.extrapolate", c.extrapolate.name().into());
-    match &p.flange {
-        Some(f) => {
-            line("flange.clearance", format!("{} m", f.clearance));
-            line("flange.stiffness", format!("{} N/m", f.stiffness));
-        }
-        None => line("flange", "none".into()),
-    }
-    let (lo, hi) = p.linear.speed_range;
-    line("linear.speed_range", format!("[{lo}, {hi}] m/s"));
-    line("linear.grid_points", format!("{}", p.grid_points()));
-    line("linear.spectrum_points", format!("{}", p.spectrum_points));
     s
 }
 
@@ -530,100 +416,4 @@ pub fn vehicle(v: &crate::model::Vehicle) -> String {
         );
     }
     s
-}
-
-/// The plan's `[vehicle]`, primary vertical, `[bogie]`, `[secondary]` and `[carbody]` values.
-fn vehicle_lines(p: &Plan, line: &mut impl FnMut(&str, String)) {
-    use crate::model::VehicleSpec;
-    let pv = &p.primary_vertical;
-    let kind = match p.vehicle {
-        VehicleSpec::Wheelset => "wheelset",
-        VehicleSpec::Bogie { .. } => "bogie",
-        VehicleSpec::Car { .. } => "car",
-    };
-    line("vehicle.kind", kind.into());
-    line(
-        "suspension.vertical_stiffness",
-        format!("{} N/m", pv.stiffness),
-    );
-    line(
-        "suspension.vertical_damping",
-        format!("{} N s/m", pv.damping),
-    );
-    line("suspension.height", format!("{} m", pv.height));
-    let (frame, sec, body) = match &p.vehicle {
-        VehicleSpec::Wheelset => return,
-        VehicleSpec::Bogie { frame, secondary } => (frame, secondary, None),
-        VehicleSpec::Car {
-            frame,
-            secondary,
-            body,
-        } => (frame, secondary, Some(body)),
-    };
-    let roll = |r: Option<f64>| {
-        r.map_or("none (no roll state)".to_string(), |r| {
-            format!("{r} kg m^2")
-        })
-    };
-    line("bogie.mass", format!("{} kg", frame.mass));
-    line("bogie.yaw_inertia", format!("{} kg m^2", frame.yaw_inertia));
-    line("bogie.roll_inertia", roll(frame.roll_inertia));
-    line(
-        "bogie.half_wheelbase",
-        format!("{} m", frame.half_wheelbase),
-    );
-    line(
-        "secondary.lateral_stiffness",
-        format!("{} N/m", sec.lateral_stiffness),
-    );
-    line(
-        "secondary.longitudinal_stiffness",
-        format!("{} N/m", sec.longitudinal_stiffness),
-    );
-    line(
-        "secondary.lateral_damping",
-        format!("{} N s/m", sec.lateral_damping),
-    );
-    line(
-        "secondary.longitudinal_damping",
-        format!("{} N s/m", sec.longitudinal_damping),
-    );
-    line(
-        "secondary.half_spring_spacing",
-        format!("{} m", sec.half_spring_spacing),
-    );
-    line(
-        "secondary.yaw_damping",
-        format!("{} N s/m", sec.yaw_damping),
-    );
-    line(
-        "secondary.yaw_damper_half_spacing",
-        format!("{} m", sec.yaw_damper_half_spacing),
-    );
-    line(
-        "secondary.vertical_stiffness",
-        format!("{} N/m", sec.vertical_stiffness),
-    );
-    line(
-        "secondary.vertical_damping",
-        format!("{} N s/m", sec.vertical_damping),
-    );
-    line(
-        "secondary.vertical_half_spacing",
-        format!("{} m", sec.vertical_half_spacing),
-    );
-    line("secondary.height", format!("{} m", sec.height));
-    if let Some(b) = body {
-        line("carbody.mass", format!("{} kg", b.mass));
-        line("carbody.yaw_inertia", format!("{} kg m^2", b.yaw_inertia));
-        line("carbody.roll_inertia", roll(b.roll_inertia));
-        line(
-            "carbody.half_bogie_distance",
-            format!("{} m", b.half_bogie_distance),
-        );
-        line(
-            "carbody.secondary_height",
-            format!("{} m", b.secondary_height),
-        );
-    }
 }

@@ -71,9 +71,12 @@ pub fn run(a: &TradeArgs, root: &Path) -> Result<(), Failure> {
         "trade.csv",
         trade::trade_csv(&table, &verdicts).as_bytes(),
     )?;
-    let svg = crate::plot::trade_svg(&report::plot(&plan.name, &tp, &rows, &verdicts))
-        .map_err(|e| super::commands::compute(anyhow!(e)))?;
-    write(&dir, "trade.svg", svg.as_bytes())?;
+    let svg = crate::figures::Rendered {
+        file: "trade.svg".into(),
+        size: (900, 580),
+        svg: crate::plot::trade_svg(&report::plot(&plan.name, &tp, &rows, &verdicts)),
+    };
+    super::commands::write_figure(&dir, svg, "trade.csv")?;
     if a.json {
         let j = report::json(&plan.name, &tp, &rows, &verdicts);
         let s = serde_json::to_string_pretty(&j).map_err(super::commands::compute)?;

@@ -62,6 +62,13 @@ pub struct ProfilePair {
 }
 
 impl ProfilePair {
+    /// The wheel's running part, as outward offsets u from its taping line (m), and the right
+    /// rail's running surface in track Y (m): where the two can touch.
+    pub fn extents(&self) -> ((f64, f64), (f64, f64)) {
+        let (vlo, vhi) = self.rail.range();
+        (self.wheel.range(), (self.rail_y + vlo, self.rail_y + vhi))
+    }
+
     /// Builds the pair from the wheel and rail points.
     pub fn new(wheel: &Points, mut rail: Points, track: Track) -> Result<Self, ProfileError> {
         let w = wheel_spline(wheel)?;

@@ -1,8 +1,8 @@
 //! `curve.svg`: the critical speeds against the design key.
 
-use super::{figure, line};
+use super::{figure, line, render, Rendered};
 use crate::curve::{CurveReport, SpecialKind};
-use crate::plot::{render_svg, PlotError, Series, Style};
+use crate::plot::{Series, Style};
 use crate::stability::HopfKind;
 
 /// The stable region's polygons: one per run of key values where the centred motion is stable
@@ -42,7 +42,7 @@ fn number(v: f64) -> String {
 /// $V_L$ (dashed) and $V_H$ (solid) against the key, every curve of each; the region where the
 /// centred motion is stable shaded in its curves' colour; subcritical stretches of the creep
 /// law's curves marked with crosses; the codimension-two points labelled in the legend.
-pub fn curve(r: &CurveReport) -> Result<String, PlotError> {
+pub fn curve(r: &CurveReport) -> Rendered {
     let unit = r.dimension.si_unit();
     let x_label = if unit.is_empty() {
         format!("{} (–)", r.key)
@@ -134,5 +134,5 @@ pub fn curve(r: &CurveReport) -> Result<String, PlotError> {
             style: Style::Points,
         });
     }
-    render_svg(&fig, 1000, 640)
+    render("curve.svg", &fig, 1000, 640)
 }

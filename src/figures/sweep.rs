@@ -3,8 +3,8 @@
 //! points with no onset in their speed range ("above range") are drawn as such: an up-triangle
 //! at the top of the range on the line plot, a cell beyond the top of the colour bar on a map.
 
-use super::{figure, line};
-use crate::plot::{render_svg, AboveRange, Figure, Marker, PlotError, Series, Style};
+use super::{figure, line, render, Rendered};
+use crate::plot::{AboveRange, Figure, Marker, PlotError, Series, Style};
 use crate::sweep::{Axis, Computed, Outcome, PointRecord, SweepSpec};
 
 pub use crate::plot::HeatMap;
@@ -45,11 +45,7 @@ fn picks(spec: &SweepSpec) -> Vec<Pick> {
 
 /// `sweep.svg` for one axis; one `sweep_map_<result>.svg` per result for two axes. `rows`
 /// need not be complete: absent points are drawn as failed.
-pub fn sweep(
-    study: &str,
-    spec: &SweepSpec,
-    rows: &[PointRecord],
-) -> Result<Vec<(String, String)>, PlotError> {
+pub fn sweep(study: &str, spec: &SweepSpec, rows: &[PointRecord]) -> Vec<Rendered> {
     let mut by_id: Vec<Option<&PointRecord>> = vec![None; spec.len()];
     for r in rows {
         if let Some(slot) = by_id.get_mut(r.id) {
@@ -76,14 +72,18 @@ pub fn sweep(
     };
     if let Some(a) = line_axis {
         let f = line_plot(study, spec, a, &by_id, threshold);
-        return Ok(vec![("sweep.svg".into(), render_svg(&f, 900, 600)?)]);
+        return vec![render("sweep.svg", &f, 900, 600)];
     }
     picks(spec)
         .into_iter()
         .map(|(file, name, get)| {
             let mut h = heat_map(study, spec, &by_id, name, get, threshold.clone());
             h.above = above_range(&by_id, Computed::from_name(file));
-            Ok((format!("sweep_map_{file}.svg"), sweep_map(&h)?))
+            Rendered {
+                file: format!("sweep_map_{file}.svg"),
+                size: (880, 600),
+                svg: sweep_map(&h),
+            }
         })
         .collect()
 }
@@ -134,7 +134,12 @@ fn line_plot(
     // a band under the data for the failed points, which have no value
     f.y_range = Some((lo - 3.0 * pad, hi + 1.5 * pad));
     let failed: Vec<(f64, f64)> = points
+        .clone()
         .filter(|(_, r)| !r.is_some_and(PointRecord::ok))
+        .map(|(x, _)| (*x, lo - 1.8 * pad))
+        .collect();
+    let no_hopf: Vec<(f64, f64)> = points
+        .filter(|(_, r)| r.is_some_and(|r| r.ok() && r.no_hopf))
         .map(|(x, _)| (*x, lo - 1.8 * pad))
         .collect();
     if let Some(top) = above.first().map(|p| p.1) {
@@ -148,6 +153,13 @@ fn line_plot(
         f.series.push(Series {
             name: "failed point (no value; reason in sweep.csv)".into(),
             points: failed,
+            style: Style::Crosses,
+        });
+    }
+    if !no_hopf.is_empty() {
+        f.series.push(Series {
+            name: "V_NL not computed: no Hopf point in range".into(),
+            points: no_hopf,
             style: Style::Crosses,
         });
     }
@@ -242,7 +254,15 @@ mod tests {
             nonlinear_located: None,
             above_range: vec![],
             stable_up_to_m_s: None,
+            no_hopf: false,
         }
+    }
+
+    /// (file, SVG) of each figure, all drawn.
+    fn svgs(figs: Vec<Rendered>) -> Vec<(String, String)> {
+        figs.into_iter()
+            .map(|f| (f.file, f.svg.expect("svg")))
+            .collect()
     }
 
     #[test]
@@ -260,7 +280,7 @@ mod tests {
         assert_eq!(h.z[4], None);
         assert_eq!(h.z[8], None);
         assert_eq!(h.z[5], Some(50.0));
-        assert!(sweep("t", &s, &rows).is_ok());
+        assert!(sweep("t", &s, &rows).iter().all(|f| f.svg.is_ok()));
     }
 
     #[test]
@@ -273,14 +293,14 @@ mod tests {
         };
         let mut rows: Vec<PointRecord> = (0..3).map(|i| row(i, Some(40.0 + i as f64))).collect();
         rows[1] = above(1);
-        let line = sweep("t", &spec(1), &rows).expect("svg");
+        let line = svgs(sweep("t", &spec(1), &rows));
         assert!(line[0].1.contains("above range: stable to 300 m/s"));
         assert!(!line[0].1.contains("failed point"));
         // on a map: one above-range cell, one failed, one absent (also failed)
         let mut rows: Vec<PointRecord> = (0..8).map(|i| row(i, Some(40.0 + i as f64))).collect();
         rows[4] = above(4);
         rows[5] = row(5, None);
-        let map = sweep("t", &spec(2), &rows).expect("svg");
+        let map = svgs(sweep("t", &spec(2), &rows));
         let svg = &map[0].1;
         let cells = |fill: &str| svg.matches(&format!("fill=\"{fill}\"/>")).count();
         assert_eq!(cells(crate::plot::ABOVE_FILL), 1);
@@ -292,11 +312,23 @@ mod tests {
     fn failed_points_are_marked_on_the_line_plot() {
         let s = spec(1);
         let rows = vec![row(0, Some(40.0)), row(1, None), row(2, Some(60.0))];
-        let figs = sweep("t", &s, &rows).expect("svg");
+        let figs = svgs(sweep("t", &s, &rows));
         assert_eq!(figs[0].0, "sweep.svg");
         assert!(figs[0].1.contains("failed point"));
+        // a V_NL without a Hopf point is said so, apart from the failed points
+        let mut no_hopf = rows.clone();
+        no_hopf[1] = PointRecord {
+            failures: vec![],
+            no_hopf: true,
+            ..row(1, None)
+        };
+        let figs = svgs(sweep("t", &s, &no_hopf));
+        assert!(figs[0]
+            .1
+            .contains("V_NL not computed: no Hopf point in range"));
+        assert!(!figs[0].1.contains("failed point"));
         // a result found nowhere gives no line, and no error
         let none = vec![row(0, None), row(1, None)];
-        assert!(sweep("t", &s, &none).is_ok());
+        assert!(sweep("t", &s, &none).iter().all(|f| f.svg.is_ok()));
     }
 }

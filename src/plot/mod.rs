@@ -16,6 +16,7 @@ mod geom;
 mod heatmap;
 #[cfg(test)]
 mod heatmap_tests;
+mod note;
 mod overlay;
 mod palette;
 mod panel;
@@ -27,6 +28,7 @@ mod tests;
 mod tradeplot;
 
 pub use heatmap::{heat_map_svg, AboveRange, HeatMap, ABOVE_FILL};
+pub use note::{drawing, note_svg, Drawing};
 pub use tradeplot::{trade_svg, TradePlot, TradePoint};
 
 use plotters::prelude::{IntoDrawingArea, SVGBackend};

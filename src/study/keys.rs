@@ -110,14 +110,18 @@ struct Tracer<'k> {
 }
 
 impl<'k> Tracer<'k> {
-    fn child(&mut self, name: &str) -> Tracer<'_> {
-        let path = if self.path.is_empty() {
+    /// The dotted key of field `name` here.
+    fn key(&self, name: &str) -> String {
+        if self.path.is_empty() {
             name.to_string()
         } else {
             format!("{}.{name}", self.path)
-        };
+        }
+    }
+
+    fn child(&mut self, name: &str) -> Tracer<'_> {
         Tracer {
-            path,
+            path: self.key(name),
             keys: self.keys,
         }
     }
@@ -214,13 +218,9 @@ impl<'de> Deserializer<'de> for Tracer<'_> {
         self.deserialize_tuple(len, v)
     }
 
-    /// A free-form table (`toml::Table`): no keys known to the schema.
+    /// A free-form table (`toml::Table`): a section without keys known to the schema.
     fn deserialize_map<V: Visitor<'de>>(self, v: V) -> Result<V::Value, TraceError> {
-        v.visit_map(Fields {
-            parent: self,
-            fields: &[],
-            next: 0,
-        })
+        self.deserialize_struct("", &[], v)
     }
 
     /// A section: every field is a key.
@@ -231,11 +231,7 @@ impl<'de> Deserializer<'de> for Tracer<'_> {
         v: V,
     ) -> Result<V::Value, TraceError> {
         for f in fields {
-            let key = if self.path.is_empty() {
-                f.to_string()
-            } else {
-                format!("{}.{f}", self.path)
-            };
+            let key = self.key(f);
             self.keys.push(key);
         }
         v.visit_map(Fields {

@@ -6,7 +6,9 @@
 //! [`HUNTING_STUDY`] the seed made to hunt, both embedded in the binary for the first run.
 
 mod attractors;
+pub mod entries;
 pub mod keys;
+pub mod plausible;
 mod profiles;
 pub mod schema;
 mod tabulated;
@@ -151,6 +153,8 @@ pub struct Plan {
     pub bifurcation: Option<BifurcationOptions>,
     /// the `[attractors]` section, when the study has one
     pub attractors: Option<AttractorSettings>,
+    /// values outside their plausible range ([`plausible`]): computed as given, and said
+    pub warnings: Vec<plausible::Warning>,
 }
 
 /// Reads and validates a study file.
@@ -211,15 +215,15 @@ pub(crate) fn checked(
     rule: &str,
 ) -> Result<f64, StudyError> {
     let v = quantity(key, q, dim)?;
-    if ok(v) {
-        Ok(v)
-    } else {
-        Err(StudyError::Rule {
+    if !ok(v) {
+        return Err(StudyError::Rule {
             key: key.to_string(),
-            value: format!("{v} {}", dim.si_unit()),
+            value: format!("{} {}", plausible::si(v), dim.si_unit()),
             rule: rule.to_string(),
-        })
+        });
     }
+    plausible::meaningful(key, v)?;
+    Ok(v)
 }
 
 pub(crate) fn positive(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
@@ -228,6 +232,19 @@ pub(crate) fn positive(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, S
 
 pub(crate) fn non_negative(key: &str, q: &Quantity, dim: Dimension) -> Result<f64, StudyError> {
     checked(key, q, dim, |v| v >= 0.0, "must not be negative")
+}
+
+/// A plain number (no unit) inside its key's meaningful range.
+fn number(key: &str, v: f64) -> Result<f64, StudyError> {
+    if !v.is_finite() {
+        return Err(rule(key, v, "must be a finite number"));
+    }
+    plausible::meaningful(key, v).map(|()| v)
+}
+
+/// A count inside its key's meaningful range.
+fn count(key: &str, n: usize) -> Result<usize, StudyError> {
+    plausible::meaningful(key, n as f64).map(|()| n)
 }
 
 /// The cone slope: a number, or a ratio string such as "1:20" or "1/40".
@@ -256,7 +273,7 @@ pub(crate) fn conicity(q: &Quantity) -> Result<f64, StudyError> {
     } else {
         Err(StudyError::Rule {
             key: KEY.into(),
-            value: v.to_string(),
+            value: plausible::si(v),
             rule: "the cone slope must lie in (0, 1)".into(),
         })
     }
@@ -292,34 +309,7 @@ pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyErr
             Dimension::Length,
         )?,
     };
-    let s = &f.suspension;
-    let suspension = Suspension {
-        lateral_stiffness: non_negative(
-            "suspension.lateral_stiffness",
-            &s.lateral_stiffness,
-            Dimension::Stiffness,
-        )?,
-        longitudinal_stiffness: non_negative(
-            "suspension.longitudinal_stiffness",
-            &s.longitudinal_stiffness,
-            Dimension::Stiffness,
-        )?,
-        lateral_damping: non_negative(
-            "suspension.lateral_damping",
-            &s.lateral_damping,
-            Dimension::Damping,
-        )?,
-        longitudinal_damping: non_negative(
-            "suspension.longitudinal_damping",
-            &s.longitudinal_damping,
-            Dimension::Damping,
-        )?,
-        half_spring_spacing: positive(
-            "suspension.half_spring_spacing",
-            &s.half_spring_spacing,
-            Dimension::Length,
-        )?,
-    };
+    let suspension = vehicle::springs("suspension", f.suspension.springs())?;
     let flange = match &f.flange {
         Some(fl) => Some(Flange {
             clearance: positive("flange.clearance", &fl.clearance, Dimension::Length)?,
@@ -348,7 +338,7 @@ pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyErr
         .as_ref()
         .map(|a| attractors::plan(a, bifurcation_range, contact.analysis_limit()))
         .transpose()?;
-    Ok(Plan {
+    let mut plan = Plan {
         name: f.name,
         description: f.description.unwrap_or_default(),
         wheelset,
@@ -361,7 +351,10 @@ pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyErr
         spectrum_points,
         bifurcation,
         attractors,
-    })
+        warnings: Vec::new(),
+    };
+    plan.warnings = plausible::warnings(&plan);
+    Ok(plan)
 }
 
 pub(crate) fn rule(key: &str, value: impl std::fmt::Display, rule: &str) -> StudyError {
@@ -393,32 +386,16 @@ fn bifurcation_plan(
         o.max_amplitude = positive("bifurcation.max_amplitude", q, Dimension::Length)?;
     }
     if let Some(r) = b.rtol {
-        if !(1e-13..=1e-4).contains(&r) {
-            return Err(rule("bifurcation.rtol", r, "must lie in [1e-13, 1e-4]"));
-        }
-        o.rtol = r;
+        o.rtol = number("bifurcation.rtol", r)?;
     }
     if let Some(d) = b.ds_max {
-        if !(d > 0.0 && d <= 10.0) {
-            return Err(rule("bifurcation.ds_max", d, "must lie in (0, 10]"));
-        }
-        o.ds_max = d;
+        o.ds_max = number("bifurcation.ds_max", d)?;
     }
     if let Some(n) = b.max_points {
-        if !(2..=100_000).contains(&n) {
-            return Err(rule("bifurcation.max_points", n, "must lie in [2, 100000]"));
-        }
-        o.max_points = n;
+        o.max_points = count("bifurcation.max_points", n)?;
     }
     if let Some(n) = b.segments {
-        if n > 64 {
-            return Err(rule(
-                "bifurcation.segments",
-                n,
-                "must lie in [0, 64] (0: one per thread)",
-            ));
-        }
-        o.segments = n;
+        o.segments = count("bifurcation.segments", n)?;
     }
     if let Some(s) = b.switch {
         o.switch = s;
@@ -463,6 +440,7 @@ fn contact_plan(
             c,
             folder.unwrap_or(Path::new("")),
             rail_head_radius.is_some(),
+            w.half_contact_distance,
         )?,
         "cone-on-arc" => {
             let lambda = cone_slope()?;
@@ -563,11 +541,17 @@ fn contact_plan(
         None if rail_head_radius.is_some() || c.geometry == "profiles" => CreepSource::Hertz,
         None if matches!(&geometry, Geometry::Table(t) if t.has_semi_axes()) => CreepSource::Hertz,
         None => {
+            let table = match &geometry {
+                Geometry::Table(t) => format!(
+                    " (contact.geometry_table = {:?} has no Hertz semi-axes a, b)",
+                    t.source
+                ),
+                _ => String::new(),
+            };
             return Err(StudyError::Missing {
                 key: "contact.creep_coefficients".into(),
-                why: "without a rail_head_radius (or Hertz semi-axes in the geometry table) they cannot be computed from the Hertz patch"
-                    .into(),
-            })
+                why: format!("without a rail_head_radius (or Hertz semi-axes in the geometry table) they cannot be computed from the Hertz patch{table}"),
+            });
         }
     };
     let default_range = match &geometry {
@@ -582,6 +566,13 @@ fn contact_plan(
             |v| v > 0.0 && v < 0.5 * w.half_contact_distance,
             "must lie in (0, half_contact_distance/2)",
         )?,
+        None if default_range >= 0.5 * w.half_contact_distance => {
+            return Err(rule(
+                "contact.lateral_range",
+                format!("{default_range} m (the default: 1.5 x flange.clearance, or the table's half-width)"),
+                "must lie in (0, half_contact_distance/2): give contact.lateral_range",
+            ))
+        }
         None => default_range,
     };
     if let Geometry::Table(t) = &geometry {
@@ -599,14 +590,9 @@ fn contact_plan(
             ));
         }
     }
-    let table_points = c.table_points.unwrap_or(401);
-    if !(5..=100_001).contains(&table_points) {
-        return Err(StudyError::Rule {
-            key: "contact.table_points".into(),
-            value: table_points.to_string(),
-            rule: "must lie in [5, 100001]".into(),
-        });
-    }
+    let table_points = c
+        .table_points
+        .map_or(Ok(401), |n| count("contact.table_points", n))?;
     let extrapolate = match c.extrapolate.as_deref() {
         None => Extrapolation::default(),
         Some(text) => Extrapolation::parse(text).ok_or_else(|| StudyError::Choice {
@@ -649,24 +635,10 @@ fn linear_plan(l: Option<&schema::LinearSection>) -> Result<(LinearOptions, usiz
             opts.speed_range = (lo, hi);
         }
         if let Some(n) = l.grid_points {
-            if !(3..=1_000_000).contains(&n) {
-                return Err(StudyError::Rule {
-                    key: "linear.grid_points".into(),
-                    value: n.to_string(),
-                    rule: "must lie in [3, 1000000]".into(),
-                });
-            }
-            opts.grid_points = Some(n);
+            opts.grid_points = Some(count("linear.grid_points", n)?);
         }
         if let Some(n) = l.spectrum_points {
-            if !(2..=100_000).contains(&n) {
-                return Err(StudyError::Rule {
-                    key: "linear.spectrum_points".into(),
-                    value: n.to_string(),
-                    rule: "must lie in [2, 100000]".into(),
-                });
-            }
-            spectrum_points = n;
+            spectrum_points = count("linear.spectrum_points", n)?;
         }
     }
     Ok((opts, spectrum_points))

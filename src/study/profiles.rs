@@ -15,6 +15,7 @@ pub(super) fn geometry(
     c: &ContactSection,
     base: &Path,
     has_rail_radius: bool,
+    half_contact_distance: f64,
 ) -> Result<Geometry, StudyError> {
     if c.conicity.is_some() || has_rail_radius || c.crown_offset.is_some() {
         return Err(rule(
@@ -76,10 +77,32 @@ pub(super) fn geometry(
         key: "contact.wheel_profile / rail_profile".into(),
         source,
     })?;
+    touching(&pair, half_contact_distance)?;
     Ok(Geometry::Profiles {
         pair: Arc::new(pair),
         smoothing,
     })
+}
+
+/// The wheels sit on the rails: at the centred position the wheel's running part, its taping
+/// line at `half_contact_distance` from the track centre, overlaps the rail head placed by the
+/// gauge. Where it does not, no contact exists and the contact solve cannot mean anything.
+fn touching(pair: &ProfilePair, l0: f64) -> Result<(), StudyError> {
+    let ((ulo, uhi), (ylo, yhi)) = pair.extents();
+    let (wlo, whi) = (l0 + ulo, l0 + uhi);
+    if wlo < yhi && whi > ylo {
+        return Ok(());
+    }
+    Err(rule(
+        "wheelset.half_contact_distance",
+        format!("{l0} m"),
+        &format!(
+            "with contact.track_gauge = {} m the wheel's running part (Y = {wlo:.4} to {whi:.4} m, \
+             taping line at half_contact_distance) does not reach the rail head (Y = {ylo:.4} to \
+             {yhi:.4} m): the wheels cannot touch the rails",
+            pair.track.gauge
+        ),
+    ))
 }
 
 /// "none" (the file is already in track axes) or a ratio "1:n" (rad, atan(1/n)).

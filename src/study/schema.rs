@@ -69,24 +69,87 @@ pub struct WheelsetSection {
     pub rolling_radius: Quantity,
 }
 
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SuspensionSection {
-    pub lateral_stiffness: Quantity,
-    pub longitudinal_stiffness: Quantity,
-    pub lateral_damping: Quantity,
-    pub longitudinal_damping: Quantity,
-    pub half_spring_spacing: Quantity,
-    /// vertical stiffness per side (acts on a rolling frame only)
-    #[serde(default)]
-    pub vertical_stiffness: Option<Quantity>,
-    /// vertical damping per side
-    #[serde(default)]
-    pub vertical_damping: Option<Quantity>,
-    /// height of the primary above the frame's centre of mass (frame roll only)
-    #[serde(default)]
-    pub height: Option<Quantity>,
+/// A per-side spring-and-damper section: the keys the primary (`[suspension]`) and the
+/// secondary (`[secondary]`) share, then the section's own optional keys. One definition, so
+/// that the two cannot drift apart; each struct still denies unknown keys.
+macro_rules! springs_section {
+    ($(#[$meta:meta])* $name:ident { $($(#[$fmeta:meta])* $field:ident),* $(,)? }) => {
+        $(#[$meta])*
+        #[derive(Clone, Debug, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub struct $name {
+            /// lateral stiffness per side
+            pub lateral_stiffness: Quantity,
+            /// longitudinal stiffness per side
+            pub longitudinal_stiffness: Quantity,
+            /// lateral damping per side
+            pub lateral_damping: Quantity,
+            /// longitudinal damping per side
+            pub longitudinal_damping: Quantity,
+            /// half the lateral distance between the two sides' springs
+            pub half_spring_spacing: Quantity,
+            /// vertical stiffness per side (acts on a rolling body only)
+            #[serde(default)]
+            pub vertical_stiffness: Option<Quantity>,
+            /// vertical damping per side
+            #[serde(default)]
+            pub vertical_damping: Option<Quantity>,
+            /// height above the frame's centre of mass (frame roll only)
+            #[serde(default)]
+            pub height: Option<Quantity>,
+            $(
+                $(#[$fmeta])*
+                #[serde(default)]
+                pub $field: Option<Quantity>,
+            )*
+        }
+
+        impl $name {
+            /// The keys every spring section has.
+            pub fn springs(&self) -> Springs<'_> {
+                Springs {
+                    stiffness: [&self.lateral_stiffness, &self.longitudinal_stiffness],
+                    damping: [&self.lateral_damping, &self.longitudinal_damping],
+                    half_spring_spacing: &self.half_spring_spacing,
+                    vertical: [self.vertical_stiffness.as_ref(), self.vertical_damping.as_ref()],
+                    height: self.height.as_ref(),
+                }
+            }
+        }
+    };
 }
+
+/// The keys the primary and the secondary share, as written.
+#[derive(Clone, Copy, Debug)]
+pub struct Springs<'a> {
+    /// lateral, longitudinal stiffness
+    pub stiffness: [&'a Quantity; 2],
+    /// lateral, longitudinal damping
+    pub damping: [&'a Quantity; 2],
+    /// half the spring spacing
+    pub half_spring_spacing: &'a Quantity,
+    /// vertical stiffness and damping, when given
+    pub vertical: [Option<&'a Quantity>; 2],
+    /// height, when given
+    pub height: Option<&'a Quantity>,
+}
+
+springs_section!(
+    /// `[suspension]`: the primary, per side, wheelset to frame (to the track for a wheelset).
+    SuspensionSection {}
+);
+
+springs_section!(
+    /// `[secondary]`: per side, frame to car body (track-fixed for a bogie).
+    SecondarySection {
+        /// longitudinal yaw dampers per side
+        yaw_damping,
+        /// half the lateral distance between the yaw dampers
+        yaw_damper_half_spacing,
+        /// half the lateral distance between the vertical springs
+        vertical_half_spacing,
+    }
+);
 
 /// `[vehicle]`: which layout the study describes.
 #[derive(Clone, Debug, Deserialize)]
@@ -106,30 +169,6 @@ pub struct BogieSection {
     /// adds the frame's roll
     #[serde(default)]
     pub roll_inertia: Option<Quantity>,
-}
-
-/// `[secondary]`: per side, frame to car body (track-fixed for a bogie).
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SecondarySection {
-    pub lateral_stiffness: Quantity,
-    pub longitudinal_stiffness: Quantity,
-    pub lateral_damping: Quantity,
-    pub longitudinal_damping: Quantity,
-    pub half_spring_spacing: Quantity,
-    #[serde(default)]
-    pub yaw_damping: Option<Quantity>,
-    #[serde(default)]
-    pub yaw_damper_half_spacing: Option<Quantity>,
-    #[serde(default)]
-    pub vertical_stiffness: Option<Quantity>,
-    #[serde(default)]
-    pub vertical_damping: Option<Quantity>,
-    #[serde(default)]
-    pub vertical_half_spacing: Option<Quantity>,
-    /// height above the frame's centre of mass (frame roll only)
-    #[serde(default)]
-    pub height: Option<Quantity>,
 }
 
 /// `[carbody]`: the car body (layout "car").

@@ -1,10 +1,13 @@
-//! `[vehicle]`, `[bogie]`, `[secondary]`, `[carbody]` and the primary's vertical keys: the
-//! layout of docs/model.md §11, in SI, checked.
+//! `[vehicle]`, `[bogie]`, `[secondary]`, `[carbody]` and the spring sections (`[suspension]`
+//! and `[secondary]` share their keys and their reading): the layout of docs/model.md §11, in SI,
+//! checked.
 
-use super::schema::{Quantity, StudyFile};
+use super::schema::{Quantity, Springs, StudyFile};
 use super::units::Dimension;
 use super::{checked, non_negative, positive, rule, StudyError};
-use crate::model::{CarBodyParams, FrameParams, PrimaryVertical, Secondary, VehicleSpec};
+use crate::model::{
+    CarBodyParams, FrameParams, PrimaryVertical, Secondary, Suspension, VehicleSpec,
+};
 
 fn opt(
     key: &str,
@@ -28,43 +31,80 @@ fn height(key: &str, q: Option<&Quantity>) -> Result<f64, StudyError> {
     Ok(v.transpose()?.unwrap_or(0.0))
 }
 
-/// The primary's vertical stiffness, damping and height (`[suspension]`).
-pub(super) fn primary_vertical(f: &StudyFile) -> Result<PrimaryVertical, StudyError> {
-    let s = &f.suspension;
+/// The five keys every spring section has (`prefix`: `suspension` or `secondary`).
+pub(super) fn springs(prefix: &str, s: Springs<'_>) -> Result<Suspension, StudyError> {
     use Dimension::*;
+    let key = |k: &str| format!("{prefix}.{k}");
+    Ok(Suspension {
+        lateral_stiffness: non_negative(&key("lateral_stiffness"), s.stiffness[0], Stiffness)?,
+        longitudinal_stiffness: non_negative(
+            &key("longitudinal_stiffness"),
+            s.stiffness[1],
+            Stiffness,
+        )?,
+        lateral_damping: non_negative(&key("lateral_damping"), s.damping[0], Damping)?,
+        longitudinal_damping: non_negative(&key("longitudinal_damping"), s.damping[1], Damping)?,
+        half_spring_spacing: positive(&key("half_spring_spacing"), s.half_spring_spacing, Length)?,
+    })
+}
+
+/// A spring section's vertical stiffness and damping (default 0) and height (default 0).
+fn vertical(prefix: &str, s: Springs<'_>) -> Result<PrimaryVertical, StudyError> {
+    use Dimension::*;
+    let key = |k: &str| format!("{prefix}.{k}");
     Ok(PrimaryVertical {
         stiffness: opt(
-            "suspension.vertical_stiffness",
-            s.vertical_stiffness.as_ref(),
+            &key("vertical_stiffness"),
+            s.vertical[0],
             Stiffness,
             non_negative,
         )?
         .unwrap_or(0.0),
         damping: opt(
-            "suspension.vertical_damping",
-            s.vertical_damping.as_ref(),
+            &key("vertical_damping"),
+            s.vertical[1],
             Damping,
             non_negative,
         )?
         .unwrap_or(0.0),
-        height: height("suspension.height", s.height.as_ref())?,
+        height: height(&key("height"), s.height)?,
     })
+}
+
+/// The primary's vertical stiffness, damping and height (`[suspension]`).
+pub(super) fn primary_vertical(f: &StudyFile) -> Result<PrimaryVertical, StudyError> {
+    vertical("suspension", f.suspension.springs())
+}
+
+/// A body's mass, yaw and (optional) roll inertia, `prefix` naming its section.
+fn body(
+    prefix: &str,
+    mass: &Quantity,
+    yaw: &Quantity,
+    roll: Option<&Quantity>,
+) -> Result<(f64, f64, Option<f64>), StudyError> {
+    use Dimension::*;
+    Ok((
+        positive(&format!("{prefix}.mass"), mass, Mass)?,
+        positive(&format!("{prefix}.yaw_inertia"), yaw, Inertia)?,
+        opt(&format!("{prefix}.roll_inertia"), roll, Inertia, positive)?,
+    ))
 }
 
 fn frame(f: &StudyFile) -> Result<FrameParams, StudyError> {
     let b = f.bogie.as_ref().ok_or_else(|| StudyError::Missing {
         key: "bogie".into(),
-        why: "a bogie or a car needs its frame: mass, yaw_inertia, half_wheelbase".into(),
+        why: format!(
+            "{} needs its frame: mass, yaw_inertia, half_wheelbase",
+            layout(f)
+        ),
     })?;
+    let (mass, yaw_inertia, roll_inertia) =
+        body("bogie", &b.mass, &b.yaw_inertia, b.roll_inertia.as_ref())?;
     Ok(FrameParams {
-        mass: positive("bogie.mass", &b.mass, Dimension::Mass)?,
-        yaw_inertia: positive("bogie.yaw_inertia", &b.yaw_inertia, Dimension::Inertia)?,
-        roll_inertia: opt(
-            "bogie.roll_inertia",
-            b.roll_inertia.as_ref(),
-            Dimension::Inertia,
-            positive,
-        )?,
+        mass,
+        yaw_inertia,
+        roll_inertia,
         half_wheelbase: positive("bogie.half_wheelbase", &b.half_wheelbase, Dimension::Length)?,
     })
 }
@@ -72,14 +112,12 @@ fn frame(f: &StudyFile) -> Result<FrameParams, StudyError> {
 fn secondary(f: &StudyFile) -> Result<Secondary, StudyError> {
     let s = f.secondary.as_ref().ok_or_else(|| StudyError::Missing {
         key: "secondary".into(),
-        why: "a bogie or a car needs its secondary suspension".into(),
+        why: format!("{} needs its secondary suspension", layout(f)),
     })?;
     use Dimension::*;
-    let spacing = positive(
-        "secondary.half_spring_spacing",
-        &s.half_spring_spacing,
-        Length,
-    )?;
+    let k = springs("secondary", s.springs())?;
+    let v = vertical("secondary", s.springs())?;
+    let spacing = k.half_spring_spacing;
     let yaw_damping = opt(
         "secondary.yaw_damping",
         s.yaw_damping.as_ref(),
@@ -99,39 +137,15 @@ fn secondary(f: &StudyFile) -> Result<Secondary, StudyError> {
         });
     }
     Ok(Secondary {
-        lateral_stiffness: non_negative(
-            "secondary.lateral_stiffness",
-            &s.lateral_stiffness,
-            Stiffness,
-        )?,
-        longitudinal_stiffness: non_negative(
-            "secondary.longitudinal_stiffness",
-            &s.longitudinal_stiffness,
-            Stiffness,
-        )?,
-        lateral_damping: non_negative("secondary.lateral_damping", &s.lateral_damping, Damping)?,
-        longitudinal_damping: non_negative(
-            "secondary.longitudinal_damping",
-            &s.longitudinal_damping,
-            Damping,
-        )?,
+        lateral_stiffness: k.lateral_stiffness,
+        longitudinal_stiffness: k.longitudinal_stiffness,
+        lateral_damping: k.lateral_damping,
+        longitudinal_damping: k.longitudinal_damping,
         half_spring_spacing: spacing,
         yaw_damping: yaw_damping.unwrap_or(0.0),
         yaw_damper_half_spacing: yaw_spacing.unwrap_or(spacing),
-        vertical_stiffness: opt(
-            "secondary.vertical_stiffness",
-            s.vertical_stiffness.as_ref(),
-            Stiffness,
-            non_negative,
-        )?
-        .unwrap_or(0.0),
-        vertical_damping: opt(
-            "secondary.vertical_damping",
-            s.vertical_damping.as_ref(),
-            Damping,
-            non_negative,
-        )?
-        .unwrap_or(0.0),
+        vertical_stiffness: v.stiffness,
+        vertical_damping: v.damping,
         vertical_half_spacing: opt(
             "secondary.vertical_half_spacing",
             s.vertical_half_spacing.as_ref(),
@@ -139,14 +153,17 @@ fn secondary(f: &StudyFile) -> Result<Secondary, StudyError> {
             positive,
         )?
         .unwrap_or(spacing),
-        height: height("secondary.height", s.height.as_ref())?,
+        height: v.height,
     })
 }
 
 fn carbody(f: &StudyFile, frame: &FrameParams) -> Result<CarBodyParams, StudyError> {
     let c = f.carbody.as_ref().ok_or_else(|| StudyError::Missing {
         key: "carbody".into(),
-        why: "a car needs its car body: mass, yaw_inertia, half_bogie_distance".into(),
+        why: format!(
+            "{} needs its car body: mass, yaw_inertia, half_bogie_distance",
+            layout(f)
+        ),
     })?;
     let lb = positive(
         "carbody.half_bogie_distance",
@@ -163,18 +180,21 @@ fn carbody(f: &StudyFile, frame: &FrameParams) -> Result<CarBodyParams, StudyErr
             ),
         ));
     }
+    let (mass, yaw_inertia, roll_inertia) =
+        body("carbody", &c.mass, &c.yaw_inertia, c.roll_inertia.as_ref())?;
     Ok(CarBodyParams {
-        mass: positive("carbody.mass", &c.mass, Dimension::Mass)?,
-        yaw_inertia: positive("carbody.yaw_inertia", &c.yaw_inertia, Dimension::Inertia)?,
-        roll_inertia: opt(
-            "carbody.roll_inertia",
-            c.roll_inertia.as_ref(),
-            Dimension::Inertia,
-            positive,
-        )?,
+        mass,
+        yaw_inertia,
+        roll_inertia,
         half_bogie_distance: lb,
         secondary_height: height("carbody.secondary_height", c.secondary_height.as_ref())?,
     })
+}
+
+/// The layout as the study chooses it, for messages: `vehicle.kind = "car"`.
+fn layout(f: &StudyFile) -> String {
+    let kind = f.vehicle.as_ref().map_or("wheelset", |v| v.kind.as_str());
+    format!("vehicle.kind = {kind:?}")
 }
 
 /// A section the layout does not use is an error that says so.

@@ -1,9 +1,12 @@
 //! One sweep point: its plan, model and the requested critical speeds, or why it failed.
 //!
-//! Each requested result has one of three outcomes ([`Outcome`]): found (a speed and a
+//! Each requested result has one of four outcomes ([`Outcome`]): found (a speed and a
 //! frequency), **above range** (the eigen-analysis ran and the centred motion is stable over the
 //! whole speed range `[v_min, v_max]`: no onset, no divergence, so the critical speed exceeds
-//! `v_max`), or failed (with the reason). Above range is a result, not a failure.
+//! `v_max`), for V_NL **no Hopf point in range** (its branch starts at the Hopf point, and there
+//! is none in the range: V_NL is not computed, and not bounded either, since a subcritical branch
+//! born above `v_max` can fold back below it), or failed (with the reason). Above range and no
+//! Hopf point in range say what happened; they are not failures.
 
 use crate::bifurcation;
 use crate::contact::creep::CreepLaw;
@@ -57,6 +60,8 @@ pub enum Outcome {
         /// top of the point's speed range (m/s); the critical speed exceeds it
         stable_up_to_m_s: f64,
     },
+    /// V_NL only: no Hopf point of the creep law in the speed range, so no branch to follow
+    NoHopf,
     /// not computed, or failed (the point's `failures` say why)
     Missing,
 }
@@ -86,6 +91,8 @@ pub struct PointRecord {
     pub above_range: Vec<Computed>,
     /// top of the speed range (m/s) when some result is above range, else `None`
     pub stable_up_to_m_s: Option<f64>,
+    /// V_NL was requested and not computed: no Hopf point of the creep law in the speed range
+    pub no_hopf: bool,
 }
 
 impl PointRecord {
@@ -102,10 +109,12 @@ impl PointRecord {
             nonlinear_located: None,
             above_range: Vec::new(),
             stable_up_to_m_s: None,
+            no_hopf: false,
         }
     }
 
-    /// Whether no requested result failed: each was found or is above range.
+    /// Whether no requested result failed: each was found, is above range or (V_NL) has no
+    /// Hopf point in range.
     pub fn ok(&self) -> bool {
         self.failures.is_empty()
     }
@@ -130,37 +139,42 @@ impl PointRecord {
             (None, Some(v)) if self.above_range.contains(&which) => Outcome::AboveRange {
                 stable_up_to_m_s: v,
             },
+            (None, _) if which == Computed::Nonlinear && self.no_hopf => Outcome::NoHopf,
             _ => Outcome::Missing,
         }
     }
 
-    /// The `status` column: `ok` (every requested result found); `above range: kalker; hopf`
-    /// (none failed, these had no onset in the speed range); `failed: <reasons>` (some failed),
-    /// followed by `; above range: <names>` when others were above range. No commas, quotes or
-    /// line breaks, so the CSV stays plain.
+    /// The `status` column: `ok` (every requested result found), else its clauses in this
+    /// order, joined by `; `: `failed: <reasons>` (some failed), `above range: <names>` (these
+    /// had no onset in the speed range, e.g. `above range: kalker; hopf`), `no Hopf point in
+    /// range: nonlinear` (V_NL not computed). No commas, quotes or line breaks, so the CSV stays
+    /// plain.
     pub fn status(&self) -> String {
-        let above = (!self.above_range.is_empty()).then(|| {
+        let mut clauses = Vec::new();
+        if !self.ok() {
+            clauses.push(format!("{FAILED}{}", clean(&self.failures.join("; "))));
+        }
+        if !self.above_range.is_empty() {
             let names: Vec<&str> = self.above_range.iter().map(|c| c.name()).collect();
-            format!("{ABOVE}{}", names.join("; "))
-        });
-        match (self.ok(), above) {
-            (true, None) => "ok".into(),
-            (true, Some(a)) => a,
-            (false, above) => {
-                let why = clean(&self.failures.join("; "));
-                match above {
-                    Some(a) => format!("{FAILED}{why}; {a}"),
-                    None => format!("{FAILED}{why}"),
-                }
-            }
+            clauses.push(format!("{ABOVE}{}", names.join("; ")));
+        }
+        if self.no_hopf {
+            clauses.push(NO_HOPF.to_string());
+        }
+        if clauses.is_empty() {
+            "ok".into()
+        } else {
+            clauses.join("; ")
         }
     }
 
-    /// Sets `failures` and `above_range` from a `status` text written by [`Self::status`].
+    /// Sets `failures`, `above_range` and `no_hopf` from a `status` text written by
+    /// [`Self::status`].
     pub fn set_status(&mut self, status: &str) -> Result<(), String> {
-        let (failures, above) = parse_status(status)?;
-        self.failures = failures;
-        self.above_range = above;
+        let s = parse_status(status)?;
+        self.failures = s.failures;
+        self.above_range = s.above;
+        self.no_hopf = s.no_hopf;
         Ok(())
     }
 }
@@ -169,6 +183,19 @@ impl PointRecord {
 pub const ABOVE: &str = "above range: ";
 /// Prefix of the status of a failed point.
 pub const FAILED: &str = "failed: ";
+/// The status clause of a point whose V_NL was not computed for want of a Hopf point.
+pub const NO_HOPF: &str = "no Hopf point in range: nonlinear";
+
+/// A `status` read back.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Status {
+    /// why results failed (one text; empty: none failed)
+    pub failures: Vec<String>,
+    /// the results above range
+    pub above: Vec<Computed>,
+    /// V_NL not computed: no Hopf point in range
+    pub no_hopf: bool,
+}
 
 fn clean(why: &str) -> String {
     why.chars()
@@ -192,26 +219,56 @@ fn names(list: &str) -> Option<Vec<Computed>> {
     Some(v)
 }
 
-/// A `status` text → (failures, results above range).
-pub fn parse_status(status: &str) -> Result<(Vec<String>, Vec<Computed>), String> {
+/// A `status` text, as [`PointRecord::status`] writes it, read back.
+pub fn parse_status(status: &str) -> Result<Status, String> {
     let bad = || {
-        format!("status {status:?} is none of \"ok\", \"{ABOVE}<results>\", \"{FAILED}<reasons>\"")
+        format!(
+            "status {status:?} is none of \"ok\", \"{ABOVE}<results>\", \"{FAILED}<reasons>\", \"{NO_HOPF}\""
+        )
     };
     if status == "ok" {
-        return Ok((Vec::new(), Vec::new()));
+        return Ok(Status::default());
     }
-    if let Some(list) = status.strip_prefix(ABOVE) {
-        return names(list).map(|a| (Vec::new(), a)).ok_or_else(bad);
+    // the last clause: V_NL without a Hopf point
+    let (rest, no_hopf) = match status.strip_suffix(NO_HOPF) {
+        Some("") => {
+            return Ok(Status {
+                no_hopf: true,
+                ..Status::default()
+            })
+        }
+        Some(r) => match r.strip_suffix("; ") {
+            Some(r) => (r, true),
+            None => (status, false),
+        },
+        None => (status, false),
+    };
+    if let Some(list) = rest.strip_prefix(ABOVE) {
+        let above = names(list).ok_or_else(bad)?;
+        return Ok(Status {
+            failures: Vec::new(),
+            above,
+            no_hopf,
+        });
     }
-    let why = status.strip_prefix(FAILED).ok_or_else(bad)?;
+    let why = rest.strip_prefix(FAILED).ok_or_else(bad)?;
     // a failed point may end with the results that were above range
     let tail = format!("; {ABOVE}");
     if let Some(k) = why.rfind(&tail) {
-        if let Some(a) = names(&why[k + tail.len()..]) {
-            return Ok((vec![why[..k].to_string()], a));
+        if let Some(above) = names(&why[k + tail.len()..]) {
+            let failures = vec![why[..k].to_string()];
+            return Ok(Status {
+                failures,
+                above,
+                no_hopf,
+            });
         }
     }
-    Ok((vec![why.to_string()], Vec::new()))
+    Ok(Status {
+        failures: vec![why.to_string()],
+        above: Vec::new(),
+        no_hopf,
+    })
 }
 
 /// The linear analysis of one law at a point.
@@ -308,9 +365,10 @@ fn fill(study: &SweepStudy, rec: &mut PointRecord, spares: &Spares) {
     }
 }
 
-/// V_NL by continuation from the Hopf point. With no Hopf point in the range V_NL stays
-/// unknown (a failure): V_H > v_max does not bound V_NL, since a subcritical branch born above
-/// v_max can fold back below it, where a continuation confined to the range never looks.
+/// V_NL by continuation from the Hopf point. With no Hopf point in the range V_NL is not
+/// computed (`no_hopf`, not a failure) and stays unknown: V_H > v_max does not bound V_NL, since
+/// a subcritical branch born above v_max can fold back below it, where a continuation confined
+/// to the range never looks.
 fn nonlinear(rec: &mut PointRecord, plan: &crate::study::Plan, model: &Vehicle) {
     // the points are the parallel work; each continuation runs serially (same results)
     let opts = bifurcation::BifurcationOptions {
@@ -322,10 +380,7 @@ fn nonlinear(rec: &mut PointRecord, plan: &crate::study::Plan, model: &Vehicle) 
             (Some((v, located)), _) => {
                 (rec.nonlinear_m_s, rec.nonlinear_located) = (Some(v), Some(located))
             }
-            (None, None) => rec.failures.push(format!(
-                "nonlinear: V_NL unknown: {} (a subcritical branch from a Hopf point above the range could still fold back into it)",
-                r.stop_reason
-            )),
+            (None, None) => rec.no_hopf = true,
             (None, Some(_)) => rec.failures.push(format!(
                 "nonlinear: no stable cycle found ({})",
                 r.stop_reason

@@ -145,8 +145,8 @@ fn parse_row(
         })
         .collect::<Result<Vec<_>, _>>()?;
     let r = &f[1 + n_axes..];
-    let (failures, above_range) =
-        super::point::parse_status(r[3]).map_err(|e| bad(path, line, e))?;
+    let status = super::point::parse_status(r[3]).map_err(|e| bad(path, line, e))?;
+    let (failures, above_range) = (status.failures, status.above);
     let stable_up_to_m_s = match r.get(7) {
         Some(s) => parse_opt(path, line, RESULT_COLUMNS[7], s)?,
         None => None,
@@ -175,6 +175,7 @@ fn parse_row(
         nonlinear_located: parse_opt(path, line, RESULT_COLUMNS[6], r[6])?,
         above_range,
         stable_up_to_m_s,
+        no_hopf: status.no_hopf,
     })
 }
 

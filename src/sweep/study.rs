@@ -148,7 +148,10 @@ impl SweepStudy {
                 set_key(&mut t, &a.key, *v);
                 self.plan_of(t).map_err(|e| SweepError::Axis {
                     axis: format!("sweep.axes[{i}] ({})", a.key),
-                    rule: format!("value {v} {} gives an invalid study: {e}", a.dim.si_unit()),
+                    rule: format!(
+                        "value {} gives an invalid study: {e}",
+                        format!("{v} {}", a.dim.si_unit()).trim_end()
+                    ),
                 })?;
             }
         }

@@ -4,7 +4,8 @@
 //! its SI unit appended (`suspension.longitudinal_stiffness_n_per_m`), the result columns
 //! `kalker_critical_speed_m_s`, `hopf_speed_m_s`, `nonlinear_critical_speed_m_s` (empty when
 //! not computed or not found) and `status` (`ok`, `above range: <results>` or
-//! `failed: <reasons>`, see [`crate::sweep::point::parse_status`]); the optional
+//! `failed: <reasons>`, and `no Hopf point in range: nonlinear`, see
+//! [`crate::sweep::point::parse_status`]); the optional
 //! `stable_up_to_m_s` (the top of the speed range of a point with results above range). Fields
 //! may be quoted (RFC 4180, one record per line).
 
@@ -42,9 +43,10 @@ impl Row {
         self.results[i].filter(|v| v.is_finite())
     }
 
-    /// Whether the sweep computed this point without failure: status `ok` or `above range: …`.
+    /// Whether the sweep computed every result of this point without failure: status `ok` or
+    /// `above range: …` (a V_NL not computed for want of a Hopf point counts as not computed).
     pub fn ok(&self) -> bool {
-        parse_status(self.status.trim()).is_ok_and(|(failures, _)| failures.is_empty())
+        parse_status(self.status.trim()).is_ok_and(|s| s.failures.is_empty() && !s.no_hopf)
     }
 
     /// The top of the speed range (m/s) when result `r` had no onset in it (V > that speed).
@@ -63,7 +65,7 @@ impl Row {
 
 /// Which results a status names as above range (none for a status that is not a sweep's).
 fn above_flags(status: &str) -> [bool; 3] {
-    let above = parse_status(status.trim()).map_or(Vec::new(), |(_, a)| a);
+    let above = parse_status(status.trim()).map_or(Vec::new(), |s| s.above);
     Computed::ALL.map(|c| above.contains(&c))
 }
 
