@@ -8,7 +8,7 @@
 ! with spin, no flange. The same functions critspeed evaluates for studies/seed-hunting-cone
 ! (closed-form cone) and studies/cubic-fold.toml (the cubic, through its table, which
 ! reproduces cubics exactly). KAP comes from geometry.inc, written per case by the script.
-! Adapted from ../shared/peers/auto07p/wheelset.f90 (the cone case).
+! Adapted from scripts/auto07p/wheelset.f90 (the cone case).
 ! State in units of SC (m, rad): U(1) = y/SC, U(2) = psi/SC, U(3) = ydot/(OMS SC),
 ! U(4) = psidot/(OMS SC), OMS = 30 rad/s; PAR(1) = V [m/s]; PAR(2) = max U(1) (PVLS);
 ! PAR(3) = friction coefficient mu [-]; PAR(11) = period [s]. AUTO's first Lyapunov coefficient
