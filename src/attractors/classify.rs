@@ -320,8 +320,14 @@ fn unsettled<const N: usize>(
     let monotone = amps.windows(2).all(|w| w[1] <= w[0]) || amps.windows(2).all(|w| w[1] >= w[0]);
     let recurs = recurs && !monotone;
     let mean_return = (returns[n - 1].t - half[0].t) / (half.len() - 1).max(1) as f64;
-    let amplitudes = body_amplitudes(model, last.0, last.1);
-    let (_, wheelsets) = excursions(model, last.0, last.1);
+    // a motion that is not periodic: its amplitudes over the whole second half of the run
+    let (mut hi, mut lo) = (half[0].high, half[0].low);
+    for q in half {
+        hi = hi.sup(&q.high);
+        lo = lo.inf(&q.low);
+    }
+    let amplitudes = body_amplitudes(model, &hi, &lo);
+    let (_, wheelsets) = excursions(model, &hi, &lo);
     if !recurs {
         let mut m = Motion::simple(MotionKind::Unsettled, speed, time);
         m.note = format!("still drifting after {time:.1} s ({n} returns)");
