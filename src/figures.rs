@@ -312,7 +312,7 @@ fn headroom(fig: &mut Figure) {
         .filter(|v| v.is_finite())
         .fold(0.0, f64::max);
     if top > 0.0 {
-        fig.y_range = Some((-0.04 * top * 2.2, top * 2.2));
+        fig.y_range = Some((-0.04 * top * 2.8, top * 2.8));
     }
 }
 

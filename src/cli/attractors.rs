@@ -18,7 +18,7 @@ pub(super) fn run(
 ) -> Result<(AttractorReport, BifurcationReport), Failure> {
     let plan = p.plan();
     let started = std::time::Instant::now();
-    let b = super::commands::bifurcation(p, root)?;
+    let b = super::commands::continuation(p)?;
     statusln!("searching for the attractors of '{}'", plan.name);
     let progress = |line: &str| statusln!("{line}");
     let r = api::search(p, &b, bifurcation_hooks().cancel, Some(&progress))?;
@@ -56,7 +56,7 @@ pub(super) fn table(r: &AttractorReport, b: &BifurcationReport) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "\nstudy '{}': attractors over [{}, {}] m/s ({} speeds, {} initial states each, {} simulations)",
+        "\nstudy '{}': attractors over [{:.2}, {:.2}] m/s ({} speeds, up to {} initial states each, {} simulations)",
         r.study,
         r.options.speed_range.0,
         r.options.speed_range.1,

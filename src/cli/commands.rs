@@ -182,6 +182,13 @@ pub(super) fn bifurcation_hooks() -> Hooks<'static> {
 }
 
 pub(super) fn bifurcation(p: &Prepared, root: &Path) -> Result<BifurcationReport, Failure> {
+    let report = continuation(p)?;
+    write_all(&out_dir(root, p.plan())?, &files::bifurcation(&report)?)?;
+    Ok(report)
+}
+
+/// The continuation with its progress on standard error, no files written.
+pub(super) fn continuation(p: &Prepared) -> Result<BifurcationReport, Failure> {
     let plan = p.plan();
     let opts = plan.bifurcation_options();
     statusln!(
@@ -219,7 +226,6 @@ pub(super) fn bifurcation(p: &Prepared, root: &Path) -> Result<BifurcationReport
         started.elapsed().as_secs_f64(),
         if tty { " ".repeat(40) } else { String::new() }
     );
-    write_all(&out_dir(root, plan)?, &files::bifurcation(&report)?)?;
     Ok(report)
 }
 

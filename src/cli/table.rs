@@ -276,6 +276,17 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> String {
         "  nonlinear critical speed V_NL          {}{how}",
         speed(r.nonlinear_critical_speed.map(|v| v.0)),
     );
+    let searched = r
+        .nonlinear_sources
+        .iter()
+        .any(|c| c.method == crate::bifurcation::VnlMethod::AttractorSearch)
+        || r.notes.iter().any(|n| n.contains("attractor search"));
+    if !searched {
+        let _ = writeln!(
+            s,
+            "    from the continuation alone: no attractor search ran (`critspeed attractors STUDY`, or an [attractors] section, adds it)"
+        );
+    }
     for b in &r.branches {
         let origin = b
             .parent
@@ -316,9 +327,10 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> String {
         .fold(0.0, f64::max);
     let _ = writeln!(
         s,
-        "  {} cycles on {} branches; largest |trivial multiplier - 1| = {worst:.1e}",
+        "  {} cycles on {} branch{}; largest |trivial multiplier - 1| = {worst:.1e}",
         r.cycles.len(),
         r.branches.len().max(1),
+        if r.branches.len() > 1 { "es" } else { "" },
     );
     s
 }

@@ -184,6 +184,13 @@ pub(crate) fn draw_legend<'a, 'b: 'a>(
     let samples = obstacles(p, pw, ph, m.px(4.0));
     let (right, bottom) = (pw - lw - inset, ph - lh - inset);
     let (mid_x, mid_y) = ((pw - lw) / 2.0, (ph - lh) / 2.0);
+    // just below the reference lines' labels, which sit at the top of the plot
+    let below = labels
+        .iter()
+        .map(|b| b.rect.y1)
+        .filter(|y| *y < 0.5 * ph)
+        .fold(inset, f64::max)
+        + inset;
     let candidates = [
         (right, inset),
         (inset, inset),
@@ -191,6 +198,8 @@ pub(crate) fn draw_legend<'a, 'b: 'a>(
         (inset, bottom),
         (mid_x, inset),
         (mid_x, bottom),
+        (right, below),
+        (inset, below),
         (right, mid_y),
         (inset, mid_y),
     ];
