@@ -223,6 +223,23 @@ fn refine<const N: usize>(
     lo: &SVector<f64, N>,
     s: &Settle,
 ) -> Option<Motion> {
+    // returns that repeat after k > 1 may be a cycle of one return still converging along a
+    // multiplier near a k-th root of unity (Newton over k periods would then find it, run k
+    // times, and call it period k): the cycle of one return through x, when it is stable and
+    // passes within 1 % of x, is the motion
+    if k > 1 {
+        if let Some(m) = refine(model, speed, x, period / k as f64, 1, hi, lo, s) {
+            let close = m.state.len() == N
+                && (0..N)
+                    .map(|i| (m.state[i] - x[i]).powi(2))
+                    .sum::<f64>()
+                    .sqrt()
+                    <= 0.01 * x.norm().max(1e-12);
+            if close {
+                return Some(m);
+            }
+        }
+    }
     let x0: [f64; N] = std::array::from_fn(|i| x[i]);
     // the sides of a symmetric motion agree: then the half-period form (exact symmetry)
     let sides = (0..N)

@@ -320,7 +320,11 @@ fn same(a: &Motion, b: &Motion, tol: f64) -> bool {
     }
     // a torus or chaos has no exact amplitude: its extremes over a finite run vary by a few
     // per cent from run to run
-    let tol = if a.period_s.is_none() { tol.max(0.1) } else { tol };
+    let tol = if a.period_s.is_none() {
+        tol.max(0.1)
+    } else {
+        tol
+    };
     let close = |x: f64, y: f64| (x - y).abs() <= tol * x.abs().max(y.abs()).max(1e-6);
     let sides = |m: &Motion| {
         m.amplitudes
@@ -358,48 +362,73 @@ impl Ctx<'_> {
         self.cancel.is_some_and(|c| c())
     }
 
-    /// Whether `m` (a speed below `here`, started from its state) is still the attractor of
-    /// `here`: the same kind, and for a cycle the one reached from `here`'s cycle by four
-    /// Newton steps in speed (natural-parameter continuation: the cycle of the same branch, even
-    /// where its amplitude changes fast, as near a Hopf point), stable, with `m`'s period;
-    /// for a torus or chaos, amplitudes within a fifth.
-    fn continues<const N: usize>(&self, here: &Motion, m: &Motion) -> bool {
-        if m.kind != here.kind || !m.kind.is_hunting() {
-            return false;
-        }
-        let (Some(t0), Some(t1)) = (here.period_s, m.period_s) else {
-            return same(m, here, 0.2);
-        };
+    /// The cycle of `here` carried to speed `v` by four Newton steps in speed
+    /// (natural-parameter continuation: the cycle of the same branch, even where its amplitude
+    /// changes fast, as near a Hopf point): its start, period and whether it is stable. `None`
+    /// for a motion that is not a cycle, or where a step moves the start by more than 30 % of
+    /// its size (past a fold there is no cycle nearby, and Newton from far would land on
+    /// another).
+    fn track<const N: usize>(&self, here: &Motion, v_to: f64) -> Option<(Vec<f64>, f64, bool)> {
+        let t0 = here.period_s?;
         if here.state.len() != N {
-            return false;
+            return None;
         }
         let symmetric = here.kind == MotionKind::SymmetricCycle;
-        // four Newton steps from here's cycle to m's speed, each moving the start by less than
-        // 30 % of its size: the cycle of the same branch (past a fold there is none nearby, and
-        // Newton from far would land on another cycle)
         let mut x = nalgebra::SVector::<f64, N>::from_fn(|i, _| here.state[i]);
         let mut period = t0;
-        let mut last = None;
+        let mut stable = false;
         for j in 1..=4 {
-            let v = here.speed_m_s + (m.speed_m_s - here.speed_m_s) * j as f64 / 4.0;
+            let v = here.speed_m_s + (v_to - here.speed_m_s) * j as f64 / 4.0;
             let x0: [f64; N] = std::array::from_fn(|i| x[i]);
-            let Ok((orbit, floquet, _)) = crate::bifurcation::solve_cycle::<N>(
+            let (orbit, floquet, _) = crate::bifurcation::solve_cycle::<N>(
                 self.model,
                 v,
                 x0,
                 period,
                 self.settle.cycle_rtol,
                 symmetric,
-            ) else {
-                return false;
-            };
+            )
+            .ok()?;
             if (orbit.x0 - x).norm() > 0.3 * x.norm().max(1e-12) {
-                return false;
+                return None;
             }
             (x, period) = (orbit.x0, orbit.period);
-            last = Some(floquet.stable());
+            stable = floquet.stable();
         }
-        last == Some(true) && (period - t1).abs() <= 1e-6 * t1.abs()
+        Some((x.iter().copied().collect(), period, stable))
+    }
+
+    /// Whether `m` (a speed below `here`) is still the attractor of `here`: the same kind,
+    /// and for a cycle the stable cycle `tracked` from `here`'s by [`Self::track`], with `m`'s
+    /// period; for a torus or chaos, amplitudes within a fifth.
+    fn continues(
+        &self,
+        here: &Motion,
+        m: &Motion,
+        tracked: Option<&(Vec<f64>, f64, bool)>,
+    ) -> bool {
+        if m.kind != here.kind || !m.kind.is_hunting() {
+            return false;
+        }
+        let (Some(_), Some(t1)) = (here.period_s, m.period_s) else {
+            return same(m, here, 0.2);
+        };
+        matches!(tracked, Some((_, period, true)) if (period - t1).abs() <= 1e-6 * t1.abs())
+    }
+
+    /// The motion at `v` reached from `here` (a speed above): for a cycle, the simulation
+    /// starts on the cycle tracked to `v` when it is stable there (so that a cycle with a
+    /// narrow basin is not lost to the jump of a large step), else from `here`'s state.
+    /// Returns the motion and whether it is still `here`'s attractor.
+    fn step_to<const N: usize>(&self, here: &Motion, v: f64) -> (Motion, bool) {
+        let tracked = self.track::<N>(here, v);
+        let start = match &tracked {
+            Some((x, _, true)) => x.as_slice(),
+            _ => here.state.as_slice(),
+        };
+        let m = self.classify::<N>(v, start);
+        let kept = self.continues(here, &m, tracked.as_ref());
+        (m, kept)
     }
 
     fn classify<const N: usize>(&self, speed: f64, x: &[f64]) -> Motion {
@@ -436,6 +465,10 @@ fn descend<const N: usize>(
         .collect();
     targets.push(opts.lowest);
     let mut dead: Option<(f64, Motion)> = None;
+    // the step: halved after a failure, down to the bracket, before the attractor counts as
+    // dead there (the amplitude of a branch varies like a square root near a Hopf point or a
+    // fold); doubled after a success, up to `descent_step` of the speed
+    let mut step = (opts.descent_step * start.speed_m_s).max(opts.bracket);
     'targets: for target in targets {
         loop {
             let Some(here) = path.last().cloned() else {
@@ -444,14 +477,11 @@ fn descend<const N: usize>(
             if here.speed_m_s <= target + 1e-9 || ctx.cancelled() {
                 break;
             }
-            // a step after which the motion is not the same attractor is halved, down to the
-            // bracket, before the attractor counts as dead there (the amplitude of a branch
-            // varies like a square root near a Hopf point or a fold)
-            let mut step = (opts.descent_step * here.speed_m_s).max(opts.bracket);
+            let largest = (opts.descent_step * here.speed_m_s).max(opts.bracket);
+            step = step.min(largest);
             let (v, m, kept) = loop {
                 let v = (here.speed_m_s - step).max(target);
-                let m = ctx.classify::<N>(v, &here.state);
-                let kept = ctx.continues::<N>(&here, &m);
+                let (m, kept) = ctx.step_to::<N>(&here, v);
                 if kept || step <= opts.bracket {
                     break (v, m, kept);
                 }
@@ -459,6 +489,7 @@ fn descend<const N: usize>(
             };
             if kept {
                 path.push(m);
+                step = (2.0 * step).min(largest);
             } else {
                 dead = Some((v, m));
                 break 'targets;
@@ -479,8 +510,8 @@ fn descend<const N: usize>(
             break;
         }
         let mid = 0.5 * (lo + alive.speed_m_s);
-        let m = ctx.classify::<N>(mid, &alive.state);
-        if ctx.continues::<N>(&alive, &m) {
+        let (m, kept) = ctx.step_to::<N>(&alive, mid);
+        if kept {
             path.push(m);
         } else {
             (lo, below) = (mid, m);
@@ -596,7 +627,15 @@ fn follow<const N: usize>(
                 a.path[0].amplitude_m() * 1e3,
                 a.found_at_m_s
             ));
-            (id, descend::<N>(ctx, &a.path[0], grid))
+            let started = std::time::Instant::now();
+            let d = descend::<N>(ctx, &a.path[0], grid);
+            let lowest = d.0.last().map_or(a.found_at_m_s, |m| m.speed_m_s);
+            ctx.say(&format!(
+                "  attractor {id} exists down to {lowest:.2} m/s, {} ({:.1} s)",
+                d.2,
+                started.elapsed().as_secs_f64()
+            ));
+            (id, d)
         };
         let followed: Vec<_> = if ctx.opts.parallel {
             fresh.par_iter().map(work).collect()
@@ -619,6 +658,93 @@ fn follow<const N: usize>(
             }
         }
     }
+}
+
+/// Joins the attractors that are one: of the same kind, where one (found lower) lies on the
+/// other's descent (a motion of that path within 5 % of its speed has amplitudes within 5 %)
+/// and both die within two brackets of each other. A jump lands on an attractor that a grid
+/// speed below finds again; since descents go down only, the two are followed separately and
+/// meet. The lower one's grid outcomes count as the other's; ids are renumbered.
+fn merge_duplicates(attractors: &mut Vec<Attractor>, rows: &mut [SpeedRow], bracket: f64) {
+    let n = attractors.len();
+    let mut into: Vec<usize> = (0..n).collect();
+    for b in 0..n {
+        for a in 0..n {
+            if a == b {
+                continue;
+            }
+            let (x, y) = (&attractors[a], &attractors[b]);
+            if x.kind != y.kind || x.found_at_m_s < y.found_at_m_s {
+                continue;
+            }
+            let dies = (x.lowest_m_s() - y.lowest_m_s()).abs() <= 2.0 * bracket;
+            let Some(first) = y.path.first() else {
+                continue;
+            };
+            let on_path = x.path.iter().any(|p| {
+                (p.speed_m_s - first.speed_m_s).abs() <= 0.05 * first.speed_m_s
+                    && same(p, first, 0.05)
+            });
+            if dies && on_path && (x.found_at_m_s > y.found_at_m_s || a < b) {
+                into[b] = a;
+                break;
+            }
+        }
+    }
+    if into.iter().enumerate().all(|(i, &j)| i == j) {
+        return;
+    }
+    let root = |mut i: usize| {
+        while into[i] != i {
+            i = into[i];
+        }
+        i
+    };
+    let kept: Vec<usize> = (0..n).filter(|&i| root(i) == i).collect();
+    let new_id = |old: usize| kept.iter().position(|&k| k == root(old));
+    for row in rows.iter_mut() {
+        let mut merged: Vec<Outcome> = Vec::new();
+        for mut o in std::mem::take(&mut row.outcomes) {
+            o.attractor = o.attractor.and_then(new_id);
+            match merged
+                .iter_mut()
+                .find(|m| m.attractor.is_some() && m.attractor == o.attractor)
+            {
+                Some(m) => {
+                    m.count += o.count;
+                    m.fraction += o.fraction;
+                }
+                None => merged.push(o),
+            }
+        }
+        row.outcomes = merged;
+    }
+    let mut out: Vec<Attractor> = Vec::with_capacity(kept.len());
+    for (id, &k) in kept.iter().enumerate() {
+        let mut a = attractors[k].clone();
+        a.id = id;
+        // the merged ones' motions join the path (their grid speeds among them), and the
+        // lowest death is the attractor's
+        for b in (0..n).filter(|&b| b != k && root(b) == k) {
+            let other = &attractors[b];
+            for m in &other.path {
+                if !a
+                    .path
+                    .iter()
+                    .any(|p| (p.speed_m_s - m.speed_m_s).abs() < 1e-9)
+                {
+                    a.path.push(m.clone());
+                }
+            }
+            if other.lowest_m_s() < a.lowest_m_s() {
+                a.dies_m_s = other.dies_m_s;
+                a.fate = other.fate.clone();
+            }
+        }
+        a.path.sort_by(|x, y| y.speed_m_s.total_cmp(&x.speed_m_s));
+        out.push(a);
+    }
+    *attractors = out;
 }
 
 /// What the initial states of one speed ended on, with the basin fractions.
@@ -818,13 +944,16 @@ fn search_states<const N: usize>(
             continue;
         }
         let covered = attractors.iter().any(|a| {
-            a.dies_m_s.is_some_and(|d| d.1 <= m.speed_m_s) && a.path.iter().any(|p| same(p, m, 0.2))
+            a.dies_m_s
+                .is_some_and(|d| d.1 <= m.speed_m_s + 2.0 * opts.bracket)
+                && a.path.iter().any(|p| same(p, m, 0.2))
         });
         if !covered {
             identify(&mut attractors, &mut fresh, m, continued);
         }
     }
     follow::<N>(&ctx, &mut attractors, &fresh, &grid, continued);
+    merge_duplicates(&mut attractors, &mut rows, opts.bracket);
     let vnl = attractors
         .iter()
         .filter(|a| a.kind.is_hunting())
