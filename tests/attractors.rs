@@ -157,3 +157,103 @@ fn the_search_brackets_the_continuations_v_nl_on_the_wheelsets() {
         }
     }
 }
+
+/// The DTU Cooperrider bogie (studies/dtu-cooperrider-bogie.toml) with its table extended
+/// linearly beyond 8 mm (`contact.extrapolate = "linear"`, branches to 14 mm): the continuation
+/// switches onto an asymmetric branch at a symmetry-breaking point of the symmetric one, and
+/// that branch's most strongly attracting cycle is the attractor of a plain long simulation
+/// started 0.3 mm off it: after 400 periods the simulation's period (between two returns to
+/// the section y₁ = 0) and the leading wheelset's excursion to each side (over one period)
+/// equal the continued cycle's to 1e-6.
+#[test]
+fn a_continued_asymmetric_cycle_of_the_bogie_is_a_long_simulations_attractor() {
+    use critspeed::api::{Hooks, Prepared, Source};
+    use critspeed::bifurcation::BranchKind;
+    use critspeed::system::ode::{integrate_sections, integrate_with_extremes};
+    use std::ops::ControlFlow;
+    let root = env!("CARGO_MANIFEST_DIR");
+    let text = std::fs::read_to_string(format!("{root}/studies/dtu-cooperrider-bogie.toml"))
+        .expect("the study")
+        .replace(
+            "geometry_table = \"tables/",
+            &format!("geometry_table = \"{root}/studies/tables/"),
+        )
+        .replace(
+            "lateral_range = \"8 mm\"",
+            "lateral_range = \"8 mm\"\nextrapolate = \"linear\"",
+        )
+        .replace(
+            "[bifurcation]\n",
+            "[bifurcation]\nmax_amplitude = \"14 mm\"\nmax_branches = 2\nspeed_range = [\"100 m/s\", \"240 m/s\"]\n",
+        );
+    let plan = Source::text(&text, "bogie, extrapolated")
+        .plan()
+        .expect("a valid study");
+    let model = plan.model().expect("model");
+    let p = Prepared::new(plan).expect("prepared");
+    let r = critspeed::api::bifurcation(&p, Hooks::default()).expect("the diagram");
+    let asym: Vec<usize> = r
+        .branches
+        .iter()
+        .filter(|b| b.kind == BranchKind::Asymmetric)
+        .map(|b| b.id)
+        .collect();
+    assert!(!asym.is_empty(), "no asymmetric branch: {:?}", r.notes);
+    let c = r
+        .cycles
+        .iter()
+        .filter(|c| asym.contains(&c.branch) && c.stable)
+        .min_by(|a, b| a.max_multiplier_abs.total_cmp(&b.max_multiplier_abs))
+        .expect("a stable asymmetric cycle");
+    let (right, left) = c.amplitude_sides_y_m;
+    assert!(
+        (right - left).abs() > 0.1 * right.max(left),
+        "asymmetric: {right} {left}"
+    );
+    let v = c.speed_m_s;
+    let tight = OdeOptions {
+        tol: Tolerances::new(1e-11, 1e-14).expect("valid"),
+        ..OdeOptions::default()
+    };
+    let mut x = SVector::<f64, 12>::from_fn(|i, _| c.x0[i]);
+    x[0] += 3e-4;
+    let x = integrate(&model, v, &x, 400.0 * c.period_s, &tight)
+        .expect("the long simulation")
+        .x;
+    let mut times = Vec::new();
+    let mut last = x;
+    integrate_sections(
+        &model,
+        v,
+        &x,
+        3.5 * c.period_s,
+        &|s: &SVector<f64, 12>| s[0],
+        &tight,
+        &mut |q| {
+            times.push(q.t);
+            last = q.x;
+            ControlFlow::Continue(())
+        },
+    )
+    .expect("three periods");
+    assert!(times.len() >= 3, "{times:?}");
+    let period = times[times.len() - 1] - times[times.len() - 2];
+    eprintln!(
+        "asymmetric cycle at {v} m/s: sides {right} / {left} m, period {} s, |mu| {}; simulation period {period} s",
+        c.period_s, c.max_multiplier_abs
+    );
+    assert!(
+        (period - c.period_s).abs() < 1e-6 * c.period_s,
+        "period {period} s, continued {} s",
+        c.period_s
+    );
+    let (_, high, low) =
+        integrate_with_extremes(&model, v, &last, period, &tight).expect("one period");
+    for (sim, cont) in [(high[0], right), (-low[0], left)] {
+        eprintln!("side: simulation {sim} m, continued {cont} m");
+        assert!(
+            (sim - cont).abs() < 1e-6 * cont,
+            "side {sim} m, continued {cont} m, at {v} m/s"
+        );
+    }
+}

@@ -397,7 +397,11 @@ fn bad_attractor_and_switching_keys_exit_2_naming_the_key() {
     let dir = scratch("attractor-keys");
     let base = std::fs::read_to_string(study("seed-hunting.toml")).expect("study");
     let cases = [
-        ("[attractors]\nspeeds = 0\n", "attractors.speeds", "must lie in [1, 200]"),
+        (
+            "[attractors]\nspeeds = 0\n",
+            "attractors.speeds",
+            "must lie in [1, 200]",
+        ),
         (
             "[attractors]\nspeed_range = [\"50 m/s\", \"400 m/s\"]\n",
             "attractors.speed_range[1]",
@@ -413,16 +417,52 @@ fn bad_attractor_and_switching_keys_exit_2_naming_the_key() {
             "attractors.amplitudes[0]",
             "must not exceed the contact geometry's range",
         ),
-        ("[attractors]\namplitudes = []\n", "attractors.amplitudes", "1 to 20"),
-        ("[attractors]\nsettle = \"-1 s\"\n", "attractors.settle", "positive"),
-        ("[attractors]\nbracket = \"0 m/s\"\n", "attractors.bracket", "positive"),
-        ("[attractors]\ndescent_step = 0.9\n", "attractors.descent_step", "(0, 0.5]"),
-        ("[attractors]\nthreshold = \"9 mm\"\namplitudes = [\"2 mm\"]\n", "attractors.threshold", "below the smallest"),
-        ("[attractors]\nrtol = 1\n", "attractors.rtol", "[1e-12, 1e-4]"),
-        ("[attractors]\nmax_period = 0\n", "attractors.max_period", "[1, 64]"),
-        ("[attractors]\nlowest = \"0.5 m/s\"\n", "attractors.lowest", "inside the bifurcation speed range"),
+        (
+            "[attractors]\namplitudes = []\n",
+            "attractors.amplitudes",
+            "1 to 20",
+        ),
+        (
+            "[attractors]\nsettle = \"-1 s\"\n",
+            "attractors.settle",
+            "positive",
+        ),
+        (
+            "[attractors]\nbracket = \"0 m/s\"\n",
+            "attractors.bracket",
+            "positive",
+        ),
+        (
+            "[attractors]\ndescent_step = 0.9\n",
+            "attractors.descent_step",
+            "(0, 0.5]",
+        ),
+        (
+            "[attractors]\nthreshold = \"9 mm\"\namplitudes = [\"2 mm\"]\n",
+            "attractors.threshold",
+            "below the smallest",
+        ),
+        (
+            "[attractors]\nrtol = 1\n",
+            "attractors.rtol",
+            "[1e-12, 1e-4]",
+        ),
+        (
+            "[attractors]\nmax_period = 0\n",
+            "attractors.max_period",
+            "[1, 64]",
+        ),
+        (
+            "[attractors]\nlowest = \"0.5 m/s\"\n",
+            "attractors.lowest",
+            "inside the bifurcation speed range",
+        ),
         ("[attractors]\nsettle = \"2 m\"\n", "attractors.settle", "s"),
-        ("[bifurcation]\nmax_branches = 0\n", "bifurcation.max_branches", "[1, 1000]"),
+        (
+            "[bifurcation]\nmax_branches = 0\n",
+            "bifurcation.max_branches",
+            "[1, 1000]",
+        ),
         ("[bifurcation]\nswitch = \"yes\"\n", "switch", "bool"),
     ];
     for (section, key, rule) in cases {
@@ -436,6 +476,9 @@ fn bad_attractor_and_switching_keys_exit_2_naming_the_key() {
         let out = critspeed(&["check", path.to_str().expect("utf-8")], &dir);
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{key}: {err}");
-        assert!(err.contains(key) && err.contains(rule), "{key} / {rule}: {err}");
+        assert!(
+            err.contains(key) && err.contains(rule),
+            "{key} / {rule}: {err}"
+        );
     }
 }
