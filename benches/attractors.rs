@@ -29,9 +29,7 @@ fn prepared(name: &str) -> Prepared {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("studies")
         .join(name);
-    let plan = Source::file(&path)
-        .and_then(|s| s.plan())
-        .expect("study");
+    let plan = Source::file(&path).and_then(|s| s.plan()).expect("study");
     Prepared::new(plan).expect("model")
 }
 
@@ -48,11 +46,16 @@ fn benches(c: &mut Criterion) {
     g.finish();
     for (study, name, secs) in [
         (&bogie, "attractor_search_dtu_bogie", 60),
-        (&prepared("dtu-cooperrider-car.toml"), "attractor_search_dtu_car", 300),
+        (
+            &prepared("dtu-cooperrider-car.toml"),
+            "attractor_search_dtu_car",
+            300,
+        ),
     ] {
         let branches = api::bifurcation(study, Hooks::default()).expect("continuation");
         let mut g = c.benchmark_group(name);
-        g.sample_size(10).measurement_time(Duration::from_secs(secs));
+        g.sample_size(10)
+            .measurement_time(Duration::from_secs(secs));
         for threads in [1, 2] {
             let p = pool(threads);
             g.bench_function(format!("{threads}_thread"), |b| {

@@ -195,6 +195,10 @@ pub struct SpeedRow {
     pub outcomes: Vec<Outcome>,
 }
 
+/// V_NL by the search: the lowest speed with a hunting attractor (m/s), the bracket of its
+/// death (m/s: it no longer exists at the first, still does at the second) and its id.
+pub type SearchVnl = (f64, Option<(f64, f64)>, usize);
+
 /// Everything the search produces.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AttractorReport {
@@ -212,7 +216,7 @@ pub struct AttractorReport {
     pub attractors: Vec<Attractor>,
     /// V_NL(search): the lowest speed with a hunting attractor (m/s), the bracket of its death
     /// (m/s) and the attractor's id
-    pub nonlinear_critical_speed: Option<(f64, Option<(f64, f64)>, usize)>,
+    pub nonlinear_critical_speed: Option<SearchVnl>,
     /// notes in words (motions that left the geometry's range, that did not settle)
     pub notes: Vec<String>,
     /// simulations run

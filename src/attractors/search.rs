@@ -448,14 +448,19 @@ impl Ctx<'_> {
     }
 }
 
+/// What a descent found: the motion at every speed where the attractor lives (highest
+/// first), the bracket of its death, what the motion does below in words, and that motion.
+struct Descent {
+    path: Vec<Motion>,
+    dies: Option<(f64, f64)>,
+    fate: String,
+    below: Option<Motion>,
+}
+
 /// The descent of one attractor from `start` (its motion at the speed where it was found):
 /// every grid speed below, with steps of at most `descent_step` of the speed, then the
 /// bisection of the death speed. Returns the path, the bracket and the fate.
-fn descend<const N: usize>(
-    ctx: &Ctx<'_>,
-    start: &Motion,
-    grid: &[f64],
-) -> (Vec<Motion>, Option<(f64, f64)>, String, Option<Motion>) {
+fn descend<const N: usize>(ctx: &Ctx<'_>, start: &Motion, grid: &[f64]) -> Descent {
     let opts = ctx.opts;
     let mut path = vec![start.clone()];
     let mut targets: Vec<f64> = grid
@@ -497,12 +502,12 @@ fn descend<const N: usize>(
         }
     }
     let Some((mut lo, mut below)) = dead else {
-        return (
+        return Descent {
             path,
-            None,
-            "exists down to the lowest speed searched".into(),
-            None,
-        );
+            dies: None,
+            fate: "exists down to the lowest speed searched".into(),
+            below: None,
+        };
     };
     // bisection: each trial from the lowest state where it lived
     while let Some(alive) = path.last().cloned() {
@@ -531,7 +536,12 @@ fn descend<const N: usize>(
         ),
         k => format!("{} below ({})", k.name(), below.note),
     };
-    (path, Some((lo, alive)), fate, Some(below))
+    Descent {
+        path,
+        dies: Some((lo, alive)),
+        fate,
+        below: Some(below),
+    }
 }
 
 /// The continuation's branch whose cycle equals the motion within 1 % in amplitude (either
@@ -629,10 +639,10 @@ fn follow<const N: usize>(
             ));
             let started = std::time::Instant::now();
             let d = descend::<N>(ctx, &a.path[0], grid);
-            let lowest = d.0.last().map_or(a.found_at_m_s, |m| m.speed_m_s);
+            let lowest = d.path.last().map_or(a.found_at_m_s, |m| m.speed_m_s);
             ctx.say(&format!(
                 "  attractor {id} exists down to {lowest:.2} m/s, {} ({:.1} s)",
-                d.2,
+                d.fate,
                 started.elapsed().as_secs_f64()
             ));
             (id, d)
@@ -643,7 +653,16 @@ fn follow<const N: usize>(
             fresh.iter().map(work).collect()
         };
         let mut landed = Vec::new();
-        for (id, (path, dies, fate, below)) in followed {
+        for (
+            id,
+            Descent {
+                path,
+                dies,
+                fate,
+                below,
+            },
+        ) in followed
+        {
             if let Some(a) = attractors.get_mut(id) {
                 a.path = path;
                 a.dies_m_s = dies;

@@ -273,6 +273,9 @@ impl Rejoin {
     }
 }
 
+/// A measure of an orbit's size from its largest |x_k| per component (see `extent` below).
+pub type Extent<'a, const N: usize> = dyn Fn(&SVector<f64, N>) -> f64 + Sync + 'a;
+
 /// The continuation driver: a shooting problem plus settings and an amplitude measure.
 pub struct Continuation<'a, const N: usize, F: VectorField<N>> {
     /// the shooting problem
@@ -290,7 +293,7 @@ pub struct Continuation<'a, const N: usize, F: VectorField<N>> {
     /// the measure that `params.max_amplitude` bounds, from the largest |x_k| per component
     /// (e.g. the largest lateral excursion of any wheelset, which must stay where the contact
     /// geometry is known); `None`: the amplitude
-    pub extent: Option<&'a (dyn Fn(&SVector<f64, N>) -> f64 + Sync)>,
+    pub extent: Option<&'a Extent<'a, N>>,
     /// end the branch where it meets the branch it was switched from; `None`: never
     pub rejoin: Option<Rejoin>,
 }
