@@ -249,12 +249,22 @@ pub fn run(a: &RampArgs, root: &Path) -> Result<(), Failure> {
     if a.json {
         results(&format!("{text}\n"))?;
     } else {
-        results(&table(&plan.name, &result, conv.as_ref()))?;
+        results(&table(
+            &plan.name,
+            &result,
+            conv.as_ref(),
+            plan.contact.analysis_limit(),
+        ))?;
     }
     Ok(())
 }
 
-fn table(study: &str, r: &RampResult, conv: Option<&RampConvergence>) -> String {
+fn table(
+    study: &str,
+    r: &RampResult,
+    conv: Option<&RampConvergence>,
+    limit: Option<f64>,
+) -> String {
     let mut s = format!("\nstudy '{study}': {RAMP_QUANTITY}\n");
     if let Some(c) = conv {
         s.push_str("  rate (m/s^2)   died at (m/s)   change   extrapolated (m/s)\n");
@@ -285,6 +295,21 @@ fn table(study: &str, r: &RampResult, conv: Option<&RampConvergence>) -> String 
     s.push_str(
         "  (the ramp under-estimates V_NL at any finite rate; the lag shrinks like sqrt(rate))\n",
     );
+    // the simulation runs on whatever geometry the model has; say when it left the valid range
+    let largest = r
+        .envelope
+        .iter()
+        .map(|p| p.amplitude_m)
+        .fold(r.start_amplitude_m, f64::max);
+    if let Some(g) = limit.filter(|g| largest > *g) {
+        s.push_str(&format!(
+            "  note: the motion reached {:.3} mm, beyond the contact geometry's valid range {:.3} mm: \
+outside it the contact geometry is extrapolated, so this estimate rests on extrapolated \
+geometry (`critspeed attractors` gives no verdict there; contact.extrapolate = \"linear\" accepts it)\n",
+            largest * 1e3,
+            g * 1e3
+        ));
+    }
     if let Some(e) = &r.en14363 {
         s.push_str(&format!(
             "  EN 14363: f0 = {} Hz, max sliding rms {:.2} kN against the limit {:.2} kN: {:?}\n",
