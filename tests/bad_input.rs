@@ -276,3 +276,18 @@ fn check_json_lists_the_warnings() {
         "{w:?}"
     );
 }
+
+/// Found by the hour-long fuzz run: a table narrower than the study's `lateral_range` is
+/// refused naming both keys, so a user who changed only the table sees it named.
+#[test]
+fn regression_a_table_narrower_than_the_lateral_range_names_the_table() {
+    let (code, err) = check_with(
+        "cubic-fold.toml",
+        &[("contact", "geometry_table", "\"tables/dtu-rsgeo-1o40.csv\"")],
+    );
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("contact.lateral_range") && err.contains("contact.geometry_table"),
+        "{err}"
+    );
+}

@@ -581,7 +581,7 @@ fn contact_plan(
                 "contact.lateral_range",
                 format!("{lateral_range} m"),
                 &format!(
-                    "must not exceed the geometry table's half-width {} m ({} covers y from {} m to {} m)",
+                    "must not exceed the half-width {} m of the table contact.geometry_table ({} covers y from {} m to {} m)",
                     t.half_width(),
                     t.source,
                     t.range().0,
