@@ -267,6 +267,14 @@ fn refine<const N: usize>(
     // the exact cycle's extremes, over one whole period
     let (_, high, low) =
         integrate_with_extremes(model, speed, &orbit.x0, orbit.period, &ode(s.cycle_rtol)).ok()?;
+    // a cycle solved without the symmetry may still be symmetric (its transient's sides
+    // differed when Newton started): then its exact extremes are opposite, max = −min, in
+    // every component that moves
+    let opposite = (0..N).all(|i| {
+        let swing = high[i] - low[i];
+        swing <= 1e-12 || (high[i] + low[i]).abs() <= 1e-6 * swing
+    });
+    let symmetric = symmetric || (k == 1 && opposite);
     let kind = match (k, symmetric) {
         (1, true) => MotionKind::SymmetricCycle,
         (1, false) => MotionKind::AsymmetricCycle,
