@@ -525,11 +525,18 @@ fn descend<const N: usize>(ctx: &Ctx<'_>, start: &Motion, grid: &[f64]) -> Desce
     let alive = path.last().map_or(start.speed_m_s, |m| m.speed_m_s);
     let fate = match below.kind {
         MotionKind::Equilibrium => "decays to the centred motion below".to_string(),
-        k if k.is_hunting() => format!(
-            "jumps to a {} of {:.3} mm below",
-            k.name(),
-            below.amplitude_m() * 1e3
-        ),
+        k if k.is_hunting() => {
+            let name = k.name();
+            let article = if name.starts_with(['a', 'e', 'i', 'o', 'u']) {
+                "an"
+            } else {
+                "a"
+            };
+            format!(
+                "jumps to {article} {name} of {:.3} mm below",
+                below.amplitude_m() * 1e3
+            )
+        }
         MotionKind::OutOfRange => format!(
             "leaves the contact geometry's range below ({:.3} mm)",
             below.excursion_m * 1e3
