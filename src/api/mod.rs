@@ -73,9 +73,24 @@ impl Failure {
     /// The message with its whole context chain, as the CLI prints it.
     pub fn message(&self) -> String {
         match self {
-            Failure::User(e) | Failure::Compute(e) => format!("{e:#}"),
+            Failure::User(e) | Failure::Compute(e) => chain(e),
         }
     }
+}
+
+/// An error and its causes joined by ": ", each cause once: many of the crate's errors already
+/// quote their cause in their own message (`cannot read study file F: <the OS error>`), which
+/// anyhow's `{:#}` would print a second time.
+pub fn chain(e: &anyhow::Error) -> String {
+    let mut s = e.to_string();
+    for cause in e.chain().skip(1) {
+        let c = cause.to_string();
+        if !s.contains(&c) {
+            s.push_str(": ");
+            s.push_str(&c);
+        }
+    }
+    s
 }
 
 pub(crate) fn user<E: Into<anyhow::Error>>(e: E) -> Failure {

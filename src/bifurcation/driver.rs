@@ -13,8 +13,9 @@
 use nalgebra::{DVector, SVector};
 
 use super::{
-    coordinate_shares_of, hopf_point, newton_tol, ode_options, state_names, BifurcationOptions,
-    BifurcationReport, BranchKind, BranchRow, CycleRow, Hooks, HopfType, SpecialRow,
+    coordinate_shares_of, hopf_point, newton_tol, ode_options, state_names, stiffness_check,
+    BifurcationOptions, BifurcationReport, BranchKind, BranchRow, CycleRow, Hooks, HopfType,
+    SpecialRow,
 };
 use crate::contact::creep::CreepLaw;
 use crate::continuation::{
@@ -137,6 +138,7 @@ pub(super) fn analyse_states<const N: usize>(
         return Ok(report);
     };
     report.hopf = Some(hopf);
+    stiffness_check::<N>(model, hopf.speed_m_s, hopf.frequency_hz)?;
     let omega = 2.0 * std::f64::consts::PI * hopf.frequency_hz;
     report.first_lyapunov =
         crate::stability::first_lyapunov::<N, _>(model, hopf.speed_m_s, omega, &Default::default())

@@ -276,6 +276,43 @@ fn ode_options(rtol: f64) -> Result<OdeOptions, String> {
     })
 }
 
+/// The most trial steps per hunting period the explicit integrator may need for the model's
+/// stiffest mode before the continuation is refused. Dormand–Prince is stable for
+/// $h|\lambda| \lesssim 3.3$ on the negative real axis, so a period takes at least
+/// $|\lambda|_{max}/(3.3 f)$ steps. The shipped studies need 4 to 25; 10⁴ is 400 times the
+/// stiffest of them, and already makes one shooting solve of a car take seconds.
+pub const MAX_STIFF_STEPS_PER_PERIOD: f64 = 1e4;
+
+/// Refuses a model too stiff for the explicit shooting integration (a mass or an inertia far
+/// too small, a stiffness or a damping far too large), in milliseconds and with the figures,
+/// where integrating it would take hours: the spectral radius of the centred Jacobian at
+/// `speed` (m/s) against the hunting frequency `frequency_hz`.
+fn stiffness_check<const N: usize>(
+    model: &Vehicle,
+    speed: f64,
+    frequency_hz: f64,
+) -> Result<(), String> {
+    let j = LinearSystem::<N>::at_centre(model).jacobian(speed);
+    let Some(ev) = crate::stability::eigenvalues(&j) else {
+        return Err(format!(
+            "the Jacobian of the centred motion at {speed:.2} m/s has no finite eigenvalues"
+        ));
+    };
+    let rho = ev.iter().map(|z| z.0.hypot(z.1)).fold(0.0, f64::max);
+    let steps = rho / (3.3 * frequency_hz);
+    if steps.is_finite() && steps <= MAX_STIFF_STEPS_PER_PERIOD {
+        return Ok(());
+    }
+    Err(format!(
+        "the model is too stiff to integrate: at V_H = {speed:.2} m/s its fastest mode has \
+         |lambda| = {rho:.3e} 1/s against the hunting frequency {frequency_hz:.3} Hz, so the \
+         explicit integrator would need about {steps:.1e} steps per cycle (at most {:.0e}); a \
+         mass or an inertia far too small, or a stiffness or a damping far too large, is the \
+         usual cause (`critspeed check` warns of values outside their plausible range)",
+        MAX_STIFF_STEPS_PER_PERIOD
+    ))
+}
+
 /// One periodic-orbit solve: the symmetric hunting cycle of `model` at `speed` (m/s), by
 /// Newton from a guess of its start state and period (e.g. a neighbouring branch cycle, or a
 /// settled simulation). Returns the cycle, its Floquet multipliers and the iterations used.

@@ -138,12 +138,12 @@ pub fn main() -> ExitCode {
     };
     match commands::dispatch(&cli) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(Failure::User(e)) => {
-            statusln!("error: {e:#}");
+        Err(f @ Failure::User(_)) => {
+            statusln!("error: {}", f.message());
             ExitCode::from(2)
         }
-        Err(Failure::Compute(e)) => {
-            statusln!("computation failed: {e:#}");
+        Err(f @ Failure::Compute(_)) => {
+            statusln!("computation failed: {}", f.message());
             ExitCode::from(1)
         }
     }

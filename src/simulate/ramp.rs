@@ -28,7 +28,7 @@ pub enum RampError {
     #[error("no ramp is compiled for {0} states (4, 12, 14, 28 and 34 are)")]
     States(usize),
     /// The integration failed.
-    #[error("integration failed at t = {t} s, V = {speed} m/s: {source}")]
+    #[error("integration failed in the run from t = {t} s, V = {speed:.3} m/s: {source}")]
     Ode {
         /// time of the failing chunk's start (s)
         t: f64,
@@ -463,10 +463,10 @@ impl Runner<'_> {
                 &local[..n],
                 &mut observe,
             )
-            .map_err(|source| RampError::Ode {
+            .map_err(|e| RampError::Ode {
                 t: base,
                 speed: x[M - 1],
-                source,
+                source: e.shifted(base),
             })?;
             x = sol.x;
             self.steps += sol.stats.steps;

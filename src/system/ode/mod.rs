@@ -227,6 +227,19 @@ pub struct Solution<const N: usize> {
     pub h_first: f64,
 }
 
+impl OdeError {
+    /// The same error with its time `t` moved by `t0`: for an integration run from a local
+    /// time 0 that stands for `t0` in the caller's time.
+    pub fn shifted(self, t0: f64) -> Self {
+        match self {
+            OdeError::StepSizeTooSmall { t, h } => OdeError::StepSizeTooSmall { t: t + t0, h },
+            OdeError::NonFinite { t } => OdeError::NonFinite { t: t + t0 },
+            OdeError::MaxSteps { t, steps } => OdeError::MaxSteps { t: t + t0, steps },
+            other => other,
+        }
+    }
+}
+
 /// Why an integration could not be done; each variant carries the numbers to diagnose it.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum OdeError {
@@ -238,7 +251,7 @@ pub enum OdeError {
     StepSizeTooSmall { t: f64, h: f64 },
     #[error("state or field not finite at t = {t}")]
     NonFinite { t: f64 },
-    #[error("max_steps = {steps} trial steps taken, stopped at t = {t}")]
+    #[error("max_steps = {steps} trial steps taken, stopped at t = {t}: a stiff model (a mass or an inertia far too small, a stiffness far too large) or too tight a tolerance")]
     MaxSteps { t: f64, steps: usize },
     /// Any other option or argument outside its domain (`h_max`, `h_initial`, `max_steps`,
     /// sample times, a section's `min_time`).
