@@ -9,7 +9,7 @@ use std::path::Path;
 use critspeed::api::{self, Prepared, Source};
 use critspeed::bifurcation::{self, HopfType};
 use critspeed::contact::creep::CreepLaw;
-use critspeed::curve::{CurveReport, SpecialKind};
+use critspeed::curve::{CurveKind, CurveReport, SpecialKind};
 use critspeed::stability::{HopfKind, LinearSystem};
 
 mod common;
@@ -65,10 +65,148 @@ fn rewritten(name: &str, key: &str, value: f64) -> Source {
     rewritten_with(name, key, value, None)
 }
 
+/// The curves of a shipped study, computed once per test binary (several tests read them).
 fn curves(name: &str) -> CurveReport {
-    let study = api::curve::curve_study(&Source::file(&studies().join(name)).expect("file"))
-        .expect("curve study");
-    api::curve::curve(&study, None).expect("curves")
+    use std::collections::HashMap;
+    use std::sync::{Mutex, OnceLock};
+    static DONE: OnceLock<Mutex<HashMap<String, CurveReport>>> = OnceLock::new();
+    let mut done = DONE
+        .get_or_init(|| Mutex::new(HashMap::new()))
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    done.entry(name.to_string())
+        .or_insert_with(|| {
+            let study =
+                api::curve::curve_study(&Source::file(&studies().join(name)).expect("file"))
+                    .expect("curve study");
+            api::curve::curve(&study, None).expect("curves")
+        })
+        .clone()
+}
+
+/// The fold curve V_NL lies on against whole diagrams: at `want` of its points spread over
+/// it, the study rewritten with the point's key value, `critspeed bifurcation` from its own
+/// Hopf point (branch switching included) has a located fold of the same speed to 1e-6
+/// relative and the same amplitude to 1e-4 relative. Points under 0.5 mm are left out: a
+/// diagram's steps (its own, not the curve's) pass such a small fold, next to a generalised
+/// Hopf point, without a turn to locate; and points above `max_amplitude` (m), where a diagram's
+/// branch may be cut by the geometry's range before it turns. Returns how many points were
+/// checked.
+fn folds_equal_diagrams(name: &str, key: &str, want: usize, max_amplitude: f64) -> usize {
+    let r = curves(name);
+    let vnl = |c: &&critspeed::curve::Curve| {
+        c.points
+            .iter()
+            .filter(|p| {
+                r.nonlinear_critical_speed
+                    .iter()
+                    .any(|(q, v)| *q == p.parameter && *v == p.speed_m_s)
+            })
+            .count()
+    };
+    let curve = r
+        .curves
+        .iter()
+        .filter(|c| c.kind == CurveKind::Fold)
+        .max_by_key(vnl)
+        .expect("a fold curve");
+    assert!(vnl(&curve) > 0, "V_NL on no point of a fold curve");
+    let points: Vec<(f64, f64, f64)> = curve
+        .points
+        .iter()
+        .filter(|p| p.amplitude_m >= 5e-4 && p.amplitude_m <= max_amplitude)
+        .map(|p| (p.parameter, p.speed_m_s, p.amplitude_m))
+        .collect();
+    assert!(points.len() >= want, "{} fold points", points.len());
+    let mut checked = 0;
+    for i in 0..want {
+        let (p, v, a) = points[i * (points.len() - 1) / (want - 1).max(1)];
+        let source = rewritten(name, key, p);
+        let prepared = Prepared::new(source.plan().expect("plan")).expect("model");
+        let d = api::bifurcation(&prepared, Default::default()).expect("diagram");
+        let nearest = d
+            .special
+            .iter()
+            .filter(|s| s.kind == critspeed::continuation::SpecialKind::Fold && s.located)
+            .min_by(|x, y| (x.speed_m_s - v).abs().total_cmp(&(y.speed_m_s - v).abs()))
+            .unwrap_or_else(|| panic!("no located fold in the diagram at {key} = {p}"));
+        let dv = (nearest.speed_m_s - v).abs() / v;
+        let da = (nearest.amplitude_y_m - a).abs() / a;
+        assert!(
+            dv <= 1e-6 && da <= 1e-4,
+            "{name}, {key} = {p}: fold curve {v} m/s, {a} m; diagram {} m/s, {} m ({dv:.1e}, {da:.1e})",
+            nearest.speed_m_s,
+            nearest.amplitude_y_m
+        );
+        checked += 1;
+    }
+    checked
+}
+
+#[test]
+fn cubic_fold_fold_curve_equals_whole_diagrams() {
+    assert_eq!(
+        // the study's 12 mm amplitude bound cuts the diagrams' branches: folds up to 11.5 mm
+        folds_equal_diagrams("cubic-fold.toml", "contact.friction", 8, 11.5e-3),
+        8
+    );
+}
+
+#[test]
+fn dtu_bogie_fold_curves_equal_whole_diagrams() {
+    assert_eq!(
+        // the table's 8 mm range cuts the diagrams' branches: folds up to 7.5 mm
+        folds_equal_diagrams(
+            "dtu-cooperrider-bogie.toml",
+            "secondary.yaw_damping",
+            8,
+            7.5e-3
+        ),
+        8
+    );
+}
+
+/// A fold of cycles is born at a generalised Hopf point with zero amplitude: the cubic-fold
+/// study's fold curve, followed down in friction from the study's 0.3, ends where its
+/// amplitude falls to zero, at the Bautin point that $l_1$ locates on the Hopf curve (two
+/// independent computations: shooting on the cycles, the normal form at the equilibrium).
+#[test]
+fn the_fold_curve_ends_at_the_bautin_point() {
+    let r = curves("cubic-fold.toml");
+    let fold = r
+        .curves
+        .iter()
+        .find(|c| c.kind == CurveKind::Fold)
+        .expect("a fold curve");
+    let end = fold
+        .points
+        .iter()
+        .min_by(|a, b| a.amplitude_m.total_cmp(&b.amplitude_m))
+        .expect("points");
+    let gh = r
+        .special_points
+        .iter()
+        .filter(|s| s.kind == SpecialKind::Bautin)
+        .min_by(|a, b| {
+            (a.parameter - end.parameter)
+                .abs()
+                .total_cmp(&(b.parameter - end.parameter).abs())
+        })
+        .expect("a Bautin point");
+    assert!(end.amplitude_m < 1e-4, "{end:?}");
+    assert!(
+        (end.parameter - gh.parameter).abs() / gh.parameter < 5e-3
+            && (end.speed_m_s - gh.speed_m_s).abs() / gh.speed_m_s < 1e-3,
+        "fold curve ends at {} / {} m/s ({} m); GH at {} / {} m/s",
+        end.parameter,
+        end.speed_m_s,
+        end.amplitude_m,
+        gh.parameter,
+        gh.speed_m_s
+    );
+    // V_NL is continuous through the Bautin point: V_H on its supercritical side, the fold
+    // on the other
+    assert!(!r.nonlinear_critical_speed.is_empty());
 }
 
 /// At least `per_curve` points of every curve (ends included, the speed range's ends
@@ -82,7 +220,7 @@ fn curves_equal_linear(name: &str, per_curve: usize) -> usize {
     let r = curves(name);
     let (vlo, vhi) = r.speed_range;
     let mut checked = 0;
-    for c in &r.curves {
+    for c in r.curves.iter().filter(|c| c.kind == CurveKind::Hopf) {
         let inside: Vec<_> = c
             .points
             .iter()
@@ -341,15 +479,16 @@ fn bad_curve_input_is_refused_naming_key_value_and_rule() {
 }
 
 /// The command writes its three files; `--json` prints the object `curve.json` holds; the
-/// CSV has one row per point; `check` validates the section; "fold" is reported as not
-/// available, not silently skipped.
+/// CSV has one row per point; `check` validates the section; a supercritical study has no
+/// fold curve and says so, and its V_NL is V_H; "torus" is reported as not available, not
+/// silently skipped.
 #[test]
 fn curve_command_writes_its_files() {
     let dir = scratch("curve-files");
     let study = write_study(
         &dir,
         "cone.toml",
-        "[curve]\nkey = \"suspension.lateral_stiffness\"\nfrom = \"200 N/mm\"\nto = \"600 N/mm\"\n",
+        "[curve]\nkey = \"suspension.lateral_stiffness\"\nfrom = \"200 N/mm\"\nto = \"600 N/mm\"\ncurves = [\"hopf\", \"fold\", \"torus\"]\n",
     );
     let out = critspeed(&["--out", "out", "curve", &study, "--json"], &dir);
     assert!(
@@ -378,10 +517,21 @@ fn curve_command_writes_its_files() {
     assert_eq!(csv.lines().count(), points + 1);
     assert!(folder.join("curve.svg").is_file());
     let notes = v["notes"].as_array().expect("notes");
-    assert!(notes
-        .iter()
-        .any(|n| n.as_str().is_some_and(|n| n.contains("\"fold\""))));
+    let noted = |w: &str| {
+        notes
+            .iter()
+            .any(|n| n.as_str().is_some_and(|n| n.contains(w)))
+    };
+    assert!(
+        noted("\"torus\"") && noted("no located fold of cycles"),
+        "{notes:?}"
+    );
     assert!(String::from_utf8_lossy(&out.stderr).contains("not available yet"));
+    // supercritical everywhere: V_NL is V_H at every fold-grid value (12 by default) and at
+    // the study's own 300 N/mm
+    let vnl = v["nonlinear_critical_speed"].as_array().expect("V_NL");
+    assert_eq!(vnl.len(), 13, "{vnl:?}");
+    assert!(vnl.iter().any(|p| p["parameter"] == 300_000.0), "{vnl:?}");
     let out = critspeed(&["check", &study], &dir);
     assert!(out.status.success());
     assert!(String::from_utf8_lossy(&out.stdout).contains("[curve] valid"));

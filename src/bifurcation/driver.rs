@@ -12,6 +12,7 @@
 
 use nalgebra::{DVector, SVector};
 
+use super::fold_track::{FoldTrack, FoldTracking};
 use super::{
     coordinate_shares_of, hopf_point, newton_tol, ode_options, state_names, stiffness_check,
     BifurcationOptions, BifurcationReport, BranchKind, BranchRow, CycleRow, Hooks, HopfType,
@@ -27,28 +28,28 @@ use crate::stability::{critical_speeds, LinearOptions, LinearSystem};
 use crate::system::ode::OdeOptions;
 
 /// One continued branch and where it came from.
-struct Run<const N: usize> {
-    kind: BranchKind,
+pub(super) struct Run<const N: usize> {
+    pub(super) kind: BranchKind,
     /// (parent run, index of the parent's special point)
     parent: Option<(usize, usize)>,
     switch_multiplier: Option<f64>,
-    symmetric: bool,
+    pub(super) symmetric: bool,
     /// shooting period over the symmetric branch's period at the Hopf point (1, 2, 4, …)
-    period_factor: usize,
-    segments: usize,
-    branch: Branch<N>,
+    pub(super) period_factor: usize,
+    pub(super) segments: usize,
+    pub(super) branch: Branch<N>,
 }
 
 /// What every branch's continuation shares.
-struct Setup<'a, const N: usize> {
-    model: &'a Vehicle,
-    opts: &'a BifurcationOptions,
-    ode: OdeOptions,
-    params: ContinuationParams,
-    amplitude: &'a (dyn Fn(&OrbitPoint<N>, &SVector<f64, N>) -> f64 + Sync),
-    extent: &'a (dyn Fn(&SVector<f64, N>) -> f64 + Sync),
-    progress: Option<&'a (dyn Fn(&BranchPoint<N>) + Sync)>,
-    cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
+pub(super) struct Setup<'a, const N: usize> {
+    pub(super) model: &'a Vehicle,
+    pub(super) opts: &'a BifurcationOptions,
+    pub(super) ode: OdeOptions,
+    pub(super) params: ContinuationParams,
+    pub(super) amplitude: &'a (dyn Fn(&OrbitPoint<N>, &SVector<f64, N>) -> f64 + Sync),
+    pub(super) extent: &'a (dyn Fn(&SVector<f64, N>) -> f64 + Sync),
+    pub(super) progress: Option<&'a (dyn Fn(&BranchPoint<N>) + Sync)>,
+    pub(super) cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
 }
 
 impl<const N: usize> Setup<'_, N> {
@@ -64,13 +65,13 @@ impl<const N: usize> Setup<'_, N> {
     }
 
     /// The continuation's scales with the period scaled by `period_factor`.
-    fn params(&self, period_factor: usize) -> ContinuationParams {
+    pub(super) fn params(&self, period_factor: usize) -> ContinuationParams {
         let mut p = self.params.clone();
         p.scale[N] *= period_factor as f64;
         p
     }
 
-    fn continuation(
+    pub(super) fn continuation(
         &self,
         symmetric: bool,
         segments: usize,
@@ -95,6 +96,18 @@ pub(super) fn analyse_states<const N: usize>(
     opts: &BifurcationOptions,
     hooks: Hooks<'_>,
 ) -> Result<BifurcationReport, String> {
+    analyse_and_track::<N>(study, model, opts, hooks, None).map(|(r, _)| r)
+}
+
+/// The diagram of `model` and, with `track`, its located folds of cycles followed over the
+/// key values of `track` ([`super::fold_track`]).
+pub(super) fn analyse_and_track<const N: usize>(
+    study: &str,
+    model: &Vehicle,
+    opts: &BifurcationOptions,
+    hooks: Hooks<'_>,
+    track: Option<&FoldTracking<'_>>,
+) -> Result<(BifurcationReport, Vec<FoldTrack>), String> {
     let Hooks { progress, cancel } = hooks;
     let ode = ode_options(opts.rtol)?;
     let kalker = model.with_law(CreepLaw::Kalker);
@@ -135,7 +148,7 @@ pub(super) fn analyse_states<const N: usize>(
             opts.speed_range.0,
             opts.speed_range.1
         );
-        return Ok(report);
+        return Ok((report, Vec::new()));
     };
     report.hopf = Some(hopf);
     stiffness_check::<N>(model, hopf.speed_m_s, hopf.frequency_hz)?;
@@ -222,7 +235,11 @@ pub(super) fn analyse_states<const N: usize>(
     }
     fill(&mut report, &runs, model, opts);
     report.notes.extend(notes);
-    Ok(report)
+    let tracks = match track {
+        Some(t) => super::fold_track::follow(&setup, &runs, t),
+        None => Vec::new(),
+    };
+    Ok((report, tracks))
 }
 
 /// Whether two special points of one kind are the same point: speeds within 1e-5 relative

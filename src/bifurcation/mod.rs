@@ -11,6 +11,7 @@
 //! ([`vnl`]).
 
 mod driver;
+pub mod fold_track;
 pub mod vnl;
 
 pub use vnl::{VnlCandidate, VnlMethod};
@@ -472,6 +473,19 @@ pub fn analyse_with_hooks(
     hooks: Hooks<'_>,
 ) -> Result<BifurcationReport, String> {
     crate::with_states!(model.states(), N => driver::analyse_states::<N>(study, model, opts, hooks),
+        _ => Err(format!("no analysis is compiled for {} states", model.states())))
+}
+
+/// [`analyse_with_hooks`], then every located fold of cycles of the diagram followed over the
+/// key values of `track` ([`fold_track`]).
+pub fn analyse_with_fold_tracks(
+    study: &str,
+    model: &Vehicle,
+    opts: &BifurcationOptions,
+    hooks: Hooks<'_>,
+    track: &fold_track::FoldTracking<'_>,
+) -> Result<(BifurcationReport, Vec<fold_track::FoldTrack>), String> {
+    crate::with_states!(model.states(), N => driver::analyse_and_track::<N>(study, model, opts, hooks, Some(track)),
         _ => Err(format!("no analysis is compiled for {} states", model.states())))
 }
 

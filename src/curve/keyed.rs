@@ -59,6 +59,21 @@ impl KeyedStudy {
         })
     }
 
+    /// The key's value in the study as written (SI), if the study sets it.
+    pub fn own_value(&self) -> Option<f64> {
+        let mut cur = &self.table;
+        let mut parts = self.key.split('.').peekable();
+        while let Some(p) = parts.next() {
+            match (cur.get(p)?, parts.peek()) {
+                (toml::Value::Table(t), Some(_)) => cur = t,
+                (toml::Value::Float(v), None) => return Some(*v),
+                (toml::Value::Integer(v), None) => return Some(*v as f64),
+                _ => return None,
+            }
+        }
+        None
+    }
+
     /// The validated plan with the key set to `value` (SI).
     pub fn plan_at(&self, value: f64) -> Result<Plan, study::StudyError> {
         let mut t = self.table.clone();

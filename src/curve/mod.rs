@@ -7,14 +7,19 @@
 //! $J(V, p)v = iωv$, continued by pseudo-arclength from every Hopf crossing found at a few
 //! values of the key ([`CurveSpec::seed_points`]), with the first Lyapunov coefficient and
 //! the Hopf type at every point, and the generalised Hopf (Bautin), double Hopf, zero-Hopf
-//! and Bogdanov–Takens points located on them. The other kinds (folds of cycles and the
-//! bifurcations of cycles) are not available yet: asking for them puts a note in the report.
+//! and Bogdanov–Takens points located on them. **Fold curves** (`crate::bifurcation::fold_track`):
+//! every located fold of cycles of the study's diagram at the key's first value, relocated at
+//! each of [`CurveSpec::fold_points`] key values; V_NL against the key from them and the
+//! supercritical parts of the V_H curves, with its jumps. The bifurcations of cycles
+//! (symmetry breaking, period doubling, torus) are not continued yet: asking for them puts a
+//! note in the report.
 //!
 //! Data flow: [`keyed::KeyedStudy`] (the study at any value of the key) → a
 //! [`family::HopfFamily`] per creep law → the continuation → [`CurveReport`] (plain data for
 //! `crate::output` and `crate::figures`).
 
 pub mod family;
+mod folds;
 pub mod hopf;
 pub mod keyed;
 mod run;
@@ -127,6 +132,8 @@ pub enum CurveStop {
     Cancelled,
     /// a model could not be built or evaluated
     Failed { message: String },
+    /// a fold of cycles was not found again at the next key value (why, in words)
+    Lost { message: String },
 }
 
 impl CurveStop {
@@ -153,6 +160,7 @@ impl CurveStop {
             CurveStop::Closed => "the curve closed on itself".into(),
             CurveStop::Cancelled => "cancelled".into(),
             CurveStop::Failed { message } => format!("failed: {message}"),
+            CurveStop::Lost { message } => message.clone(),
         }
     }
 }
@@ -196,8 +204,11 @@ pub struct CurvePoint {
     pub first_lyapunov_error: Option<f64>,
     /// the Hopf type from $l_1$
     pub hopf_type: Option<HopfKind>,
-    /// where the centred motion is stable
+    /// where the centred motion is stable (Hopf curves; `Neither` on fold curves)
     pub stable_side: StableSide,
+    /// on a fold curve: whether a stable cycle branch ends at the fold (a hunting motion
+    /// disappears there, so the fold can be V_NL); `None` on Hopf curves
+    pub stable_cycle: Option<bool>,
 }
 
 /// One continued curve.
@@ -285,7 +296,8 @@ pub struct CurveReport {
     pub special_points: Vec<SpecialPoint>,
     /// the stable region of each creep law (for the plot's shading)
     pub stable_regions: Vec<StableRegion>,
-    /// V_NL against the key: (key value, m/s); from the fold curves (none yet)
+    /// V_NL against the key: (key value, m/s) at the fold curves' key values: the lowest fold
+    /// where a stable cycle branch ends, and V_H where the Hopf point is supercritical
     pub nonlinear_critical_speed: Vec<(f64, f64)>,
     /// what was asked for and could not be computed, and why
     pub notes: Vec<String>,

@@ -41,8 +41,9 @@ pub fn analyse(
     for kind in &spec.curves {
         match kind {
             CurveKind::Hopf => hopf_curves(study, spec, cancel, &mut report)?,
+            CurveKind::Fold => super::folds::fold_curves(study, spec, cancel, &mut report)?,
             other => report.notes.push(format!(
-                "\"{}\" curves are not available yet: nothing was continued for them (the Hopf curves are)",
+                "\"{}\" curves are not available yet: nothing was continued for them (the Hopf and fold curves are)",
                 other.name()
             )),
         }
@@ -98,7 +99,7 @@ fn hopf_curves(
 }
 
 /// `P` of a key value, and the `P` range (lower bound first).
-fn to_p(spec: &CurveSpec, v: f64) -> f64 {
+pub(super) fn to_p(spec: &CurveSpec, v: f64) -> f64 {
     if spec.log {
         v.ln()
     } else {
@@ -302,6 +303,7 @@ fn point<const N: usize, F: HopfFamily<N>>(family: &F, p: &TracedPoint<N>) -> Cu
         first_lyapunov_error: e.l1.as_ref().map(|l| l.error),
         hopf_type: e.l1.as_ref().map(|l| l.kind()),
         stable_side,
+        stable_cycle: None,
     }
 }
 

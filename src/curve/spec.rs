@@ -33,6 +33,8 @@ pub struct CurveSpec {
     /// crossings are searched that curves start from; default 5 (both ends and three
     /// between: a curve that enters and leaves the box between two of them is missed)
     pub seed_points: usize,
+    /// key values at which the folds of cycles are located, ends included
+    pub fold_points: usize,
 }
 
 fn rule(key: &str, value: impl ToString, rule: impl ToString) -> CurveError {
@@ -162,6 +164,7 @@ pub fn resolve(s: &CurveSection, study: &KeyedStudy) -> Result<CurveSpec, CurveE
             Some(d) => return Err(rule("curve.max_step", d, "must lie in (0, 0.5]")),
         },
         seed_points: bounded("curve.seed_points", s.seed_points, 5, 2, 1000)?,
+        fold_points: bounded("curve.fold_points", s.fold_points, 12, 2, 1000)?,
     })
 }
 

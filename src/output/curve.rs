@@ -10,7 +10,7 @@ use crate::sweep::spec::unit_suffix;
 /// What the curve outputs report.
 pub const CURVE_KIND: &str = "critical speeds as curves over a design key: Hopf points of the \
 centred motion continued in (speed, key), with the first Lyapunov coefficient and the \
-codimension-two points";
+codimension-two points, and the folds of cycles located at each key value, with V_NL";
 
 fn point_json(p: &CurvePoint) -> Value {
     json!({
@@ -22,6 +22,7 @@ fn point_json(p: &CurvePoint) -> Value {
         "first_lyapunov_coefficient_error": p.first_lyapunov_error,
         "hopf_type": p.hopf_type.map(|k| k.name()),
         "stable_side": p.stable_side.name(),
+        "stable_cycle": p.stable_cycle,
     })
 }
 
@@ -94,7 +95,7 @@ pub fn curve_key_column(r: &CurveReport) -> String {
 pub fn curve_csv(r: &CurveReport) -> String {
     let mut s = format!(
         "curve,kind,creep_law,label,{},speed_m_s,frequency_hz,amplitude_m,\
-first_lyapunov_coefficient_per_m2,first_lyapunov_error_per_m2,hopf_type,stable_side\n",
+first_lyapunov_coefficient_per_m2,first_lyapunov_error_per_m2,hopf_type,stable_side,stable_cycle\n",
         curve_key_column(r)
     );
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
@@ -102,7 +103,7 @@ first_lyapunov_coefficient_per_m2,first_lyapunov_error_per_m2,hopf_type,stable_s
         for p in &c.points {
             let _ = writeln!(
                 s,
-                "{k},{},{},{},{},{},{},{},{},{},{},{}",
+                "{k},{},{},{},{},{},{},{},{},{},{},{},{}",
                 c.kind.name(),
                 c.creep_law.name(),
                 c.label,
@@ -114,6 +115,7 @@ first_lyapunov_coefficient_per_m2,first_lyapunov_error_per_m2,hopf_type,stable_s
                 opt(p.first_lyapunov_error),
                 p.hopf_type.map_or("", |h| h.name()),
                 p.stable_side.name(),
+                p.stable_cycle.map_or(String::new(), |b| b.to_string()),
             );
         }
     }

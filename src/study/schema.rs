@@ -404,4 +404,7 @@ pub struct CurveSection {
     /// values of the key where Hopf points are searched to start curves from (default 5)
     #[serde(default)]
     pub seed_points: Option<usize>,
+    /// values of the key at which the folds of cycles are located, ends included (default 12)
+    #[serde(default)]
+    pub fold_points: Option<usize>,
 }

@@ -1,0 +1,289 @@
+//! The fold curves and V_NL against the key: the diagram at the key's first value, its
+//! located folds of cycles relocated at each key value (`crate::bifurcation::fold_track`),
+//! and V_NL at each of those values from the folds and the supercritical V_H.
+
+use crate::bifurcation::fold_track::{FoldTrack, FoldTracking};
+use crate::bifurcation::{self, BranchKind, Hooks};
+use crate::stability::HopfKind;
+
+use super::keyed::KeyedStudy;
+use super::run::to_p;
+use super::spec::CurveSpec;
+use super::{Curve, CurveError, CurveKind, CurvePoint, CurveReport, CurveStop, StableSide};
+
+/// The key's value at `P` = `p`.
+fn from_p(spec: &CurveSpec, p: f64) -> f64 {
+    if spec.log {
+        p.exp()
+    } else {
+        p
+    }
+}
+
+/// `fold_points` key values evenly spaced on the key's axis from `from` to `to`, the ends
+/// exactly as written.
+fn values(spec: &CurveSpec) -> Vec<f64> {
+    let n = spec.fold_points.max(2);
+    let (p0, p1) = (to_p(spec, spec.range.0), to_p(spec, spec.range.1));
+    (0..n)
+        .map(|i| match i {
+            0 => spec.range.0,
+            _ if i + 1 == n => spec.range.1,
+            _ => from_p(spec, p0 + (p1 - p0) * i as f64 / (n - 1) as f64),
+        })
+        .collect()
+}
+
+/// Where the diagram is computed: the study's own value of the key when it lies in the range
+/// (where the study's diagram is known), else `from`; and the grid's values after it (towards
+/// `to`) and before it (nearest first).
+fn split(spec: &CurveSpec, own: Option<f64>, grid: &[f64]) -> (f64, Vec<f64>, Vec<f64>) {
+    let (a, b) = (
+        spec.range.0.min(spec.range.1),
+        spec.range.0.max(spec.range.1),
+    );
+    let seed = own.filter(|v| (a..=b).contains(v)).unwrap_or(spec.range.0);
+    let beyond = |v: f64| (v - seed) * (spec.range.1 - spec.range.0) > 0.0;
+    let fore: Vec<f64> = grid.iter().copied().filter(|&v| beyond(v)).collect();
+    let back: Vec<f64> = grid
+        .iter()
+        .rev()
+        .copied()
+        .filter(|&v| v != seed && !beyond(v))
+        .collect();
+    (seed, fore, back)
+}
+
+fn label(kind: BranchKind) -> &'static str {
+    match kind {
+        BranchKind::Symmetric => "fold, symmetric",
+        BranchKind::Asymmetric => "fold, asymmetric",
+        BranchKind::Period(_) => "fold, doubled",
+    }
+}
+
+/// Adds the fold curves of `study` to `report`, and V_NL against the key.
+pub(super) fn fold_curves(
+    study: &KeyedStudy,
+    spec: &CurveSpec,
+    cancel: Option<&(dyn Fn() -> bool + Sync)>,
+    report: &mut CurveReport,
+) -> Result<(), CurveError> {
+    let grid = values(spec);
+    let own = study.own_value();
+    // the diagrams: at the study's own value (else `from`), then at `seed_points` values of
+    // the grid, each following only the folds no curve passes through yet
+    let n = grid.len();
+    let k = spec.seed_points.min(n).max(1);
+    let mut seeds: Vec<Option<f64>> = vec![own];
+    seeds.extend((0..k).map(|i| grid.get(i * (n - 1) / (k - 1).max(1)).copied()));
+    let law = study
+        .base
+        .model()
+        .map_or(crate::contact::creep::CreepLaw::Kalker, |m| m.creep_law());
+    let start = report.curves.len();
+    let mut first_seed = None;
+    let mut diagrams = 0;
+    for seed in seeds {
+        let (first, fore, back) = split(spec, seed, &grid);
+        if first_seed.is_none() {
+            first_seed = Some(first);
+        } else if Some(first) == first_seed && seed != first_seed {
+            continue;
+        }
+        if cancel.is_some_and(|c| c()) {
+            break;
+        }
+        let model = study.model_at(first)?;
+        let plan = study.plan_at(first).map_err(CurveError::Study)?;
+        let mut opts = plan.bifurcation_options();
+        opts.speed_range = spec.speed_range;
+        let model_at = |v: f64| study.model_at(v).map_err(|e| e.to_string());
+        let known = report.curves[start..].to_vec();
+        let skip = |speed: f64, _amplitude: f64| {
+            known.iter().any(|c| {
+                c.points
+                    .iter()
+                    .any(|p| p.parameter == first && (p.speed_m_s - speed).abs() <= 1e-4 * speed)
+            })
+        };
+        let track = FoldTracking {
+            values: &fore,
+            back: &back,
+            first,
+            model_at: &model_at,
+            skip: &skip,
+        };
+        let hooks = Hooks {
+            progress: None,
+            cancel,
+        };
+        let (_diagram, tracks) =
+            bifurcation::analyse_with_fold_tracks(&study.base.name, &model, &opts, hooks, &track)
+                .map_err(|message| CurveError::Model {
+                parameter: first,
+                message,
+            })?;
+        diagrams += 1;
+        report.stats.models_built += fore.len() + back.len() + 1;
+        for t in &tracks {
+            report.curves.push(curve(t, law, first));
+        }
+    }
+    let first = first_seed.unwrap_or(spec.range.0);
+    if report.curves.len() == start {
+        report.notes.push(format!(
+            "no located fold of cycles in the diagrams at {diagrams} values of {} (the study's own and {k} of the fold grid): no fold curve",
+            spec.key
+        ));
+    }
+    let mut at_values = grid.clone();
+    if !at_values.contains(&first) {
+        at_values.push(first);
+        at_values.sort_by(|a, b| ((a - b) * (spec.range.1 - spec.range.0)).total_cmp(&0.0));
+    }
+    nonlinear_critical_speed(spec, &at_values, report);
+    unfollowed_bautin_points(spec, first, report);
+    Ok(())
+}
+
+fn curve(t: &FoldTrack, law: crate::contact::creep::CreepLaw, first: f64) -> Curve {
+    let points = t
+        .points
+        .iter()
+        .map(|p| CurvePoint {
+            parameter: p.parameter,
+            speed_m_s: p.speed_m_s,
+            frequency_hz: 1.0 / p.period_s,
+            amplitude_m: p.amplitude_m,
+            first_lyapunov_coefficient: None,
+            first_lyapunov_error: None,
+            hopf_type: None,
+            stable_side: StableSide::Neither,
+            stable_cycle: Some(p.stable_side),
+        })
+        .collect();
+    let end = |message: &String| CurveStop::Lost {
+        message: message.clone(),
+    };
+    Curve {
+        kind: CurveKind::Fold,
+        creep_law: law,
+        label: label(t.branch_kind),
+        points,
+        stops: (end(&t.stops.0), end(&t.stops.1)),
+        seed_parameter: first,
+    }
+}
+
+/// The speed of `curve` at key value `value` (linear in `P` between its points) and the
+/// nearer point, if the curve spans `value`.
+fn at<'c>(spec: &CurveSpec, curve: &'c Curve, value: f64) -> Option<(f64, &'c CurvePoint)> {
+    let x = to_p(spec, value);
+    curve.points.windows(2).find_map(|w| {
+        let (a, b) = (to_p(spec, w[0].parameter), to_p(spec, w[1].parameter));
+        if !(a.min(b) <= x && x <= a.max(b)) {
+            return None;
+        }
+        let t = if a != b { (x - a) / (b - a) } else { 0.0 };
+        let near = if t < 0.5 { &w[0] } else { &w[1] };
+        Some((w[0].speed_m_s + t * (w[1].speed_m_s - w[0].speed_m_s), near))
+    })
+}
+
+/// V_NL at every key value of `values`: the lowest of the folds where a stable cycle branch
+/// ends and, where the lowest onset of the V_H curves is supercritical, that onset (a stable
+/// cycle is born there). Where the lowest onset is subcritical and no fold with a stable side
+/// was followed, V_NL is unknown there (it lies below V_H, on a fold that was not followed)
+/// and the values are listed in a note. Its jumps, where the lowest changes from one curve to
+/// another, go to the notes.
+fn nonlinear_critical_speed(spec: &CurveSpec, values: &[f64], report: &mut CurveReport) {
+    let mut previous: Option<(f64, f64, String)> = None;
+    let mut unknown = Vec::new();
+    for &value in values {
+        // the lowest onset of the study's own creep law at this value
+        let onset = report
+            .curves
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.kind == CurveKind::Hopf && c.label == "V_H")
+            .filter_map(|(i, c)| {
+                at(spec, c, value)
+                    .filter(|(_, p)| p.stable_side == StableSide::Below)
+                    .map(|(v, p)| (v, p.hopf_type, i))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        let mut best: Option<(f64, String)> = None;
+        if let Some((v, Some(HopfKind::Supercritical), i)) = onset {
+            best = Some((v, format!("curve {i} (V_H, supercritical)")));
+        }
+        for (i, c) in report.curves.iter().enumerate() {
+            if c.kind != CurveKind::Fold {
+                continue;
+            }
+            let fold = c
+                .points
+                .iter()
+                .find(|p| p.parameter == value && p.stable_cycle == Some(true));
+            if let Some(p) = fold {
+                if best.as_ref().is_none_or(|b| p.speed_m_s < b.0) {
+                    best = Some((p.speed_m_s, format!("curve {i} ({})", c.label)));
+                }
+            }
+        }
+        let Some((v, source)) = best else {
+            if onset.is_some() {
+                unknown.push(value);
+            }
+            continue;
+        };
+        if let Some((pv, pspeed, psource)) = &previous {
+            if *psource != source {
+                report.notes.push(format!(
+                    "V_NL changes curve between {} = {pv} and {value}: from {pspeed:.3} m/s on {psource} to {v:.3} m/s on {source}",
+                    spec.key
+                ));
+            }
+        }
+        report.nonlinear_critical_speed.push((value, v));
+        previous = Some((value, v, source));
+    }
+    if !unknown.is_empty() {
+        let list: Vec<String> = unknown.iter().map(|v| format!("{v}")).collect();
+        report.notes.push(format!(
+            "V_NL unknown at {} = {}: the lowest Hopf point there is subcritical (or of unknown type) and no fold with a stable side was followed there, so V_NL lies below V_H on a fold this run did not reach",
+            spec.key,
+            list.join(", ")
+        ));
+    }
+}
+
+/// A note for each generalised Hopf point of a V_H curve that no fold curve reaches: a fold
+/// of cycles is born there, and this run did not follow it (only the folds of the diagrams
+/// computed are followed).
+fn unfollowed_bautin_points(spec: &CurveSpec, first: f64, report: &mut CurveReport) {
+    let span = (to_p(spec, spec.range.1) - to_p(spec, spec.range.0)).abs();
+    let mut notes = Vec::new();
+    for s in &report.special_points {
+        if s.kind != super::SpecialKind::Bautin {
+            continue;
+        }
+        let reached = report
+            .curves
+            .iter()
+            .filter(|c| c.kind == CurveKind::Fold)
+            .any(|c| {
+                c.points.iter().any(|p| {
+                    (to_p(spec, p.parameter) - to_p(spec, s.parameter)).abs() <= 0.05 * span
+                        && (p.speed_m_s - s.speed_m_s).abs() <= 0.02 * s.speed_m_s
+                })
+            });
+        if !reached {
+            notes.push(format!(
+                "a fold of cycles is born at the generalised Hopf point at {} = {:.6e}, {:.3} m/s, and was not followed: no diagram computed (at {} = {first} and at curve.seed_points values of the fold grid) had it (more seed_points, or a study whose own {} lies there, follows it)",
+                spec.key, s.parameter, s.speed_m_s, spec.key, spec.key
+            ));
+        }
+    }
+    report.notes.extend(notes);
+}
