@@ -1,10 +1,12 @@
-//! Benches of `critspeed curve`'s Hopf curves and of the first Lyapunov coefficient.
+//! Benches of `critspeed curve`'s Hopf and fold curves and of the first Lyapunov coefficient.
 //!
 //! * `curve_seed_stiffness_hopf`: V_L and V_H over the primary lateral stiffness of
 //!   `studies/seed-stiffness-map.toml` (its `[curve]`: 100 to 3000 N/mm, log), both curves
 //!   with l1 at every point and the stable region (the command's Hopf work; goal < 50 ms).
 //! * `curve_dtu_bogie_yaw_damping_hopf`: the six Hopf curves of the DTU bogie over the
 //!   yaw-damper rate (0 to 400 kN s/m), with its two double Hopf points.
+//! * `curve_cubic_fold_friction_folds`: the fold curves and V_NL of `studies/cubic-fold.toml`
+//!   over friction 0.05 to 0.6 (six diagrams, the fold relocated at 12 friction values).
 //! * `first_lyapunov_seed_hunting`: l1 at the Shen Hopf point of `studies/seed-hunting.toml`
 //!   (Richardson tableau of central differences of the exact Jacobian).
 
@@ -38,6 +40,15 @@ fn benches(c: &mut Criterion) {
     group.sample_size(10);
     group.bench_function("curve_dtu_bogie_yaw_damping_hopf", |b| {
         b.iter(|| api::curve::curve(black_box(&bogie), None).expect("curves"))
+    });
+    let cubic = {
+        let source = Source::file(&study("cubic-fold.toml")).expect("study file");
+        let mut s = api::curve::curve_study(&source).expect("curve study");
+        s.spec.curves = vec![CurveKind::Fold];
+        s
+    };
+    group.bench_function("curve_cubic_fold_friction_folds", |b| {
+        b.iter(|| api::curve::curve(black_box(&cubic), None).expect("curves"))
     });
     group.finish();
     let plan = critspeed::study::load(&study("seed-hunting.toml")).expect("study");

@@ -199,6 +199,7 @@ fn at<'c>(spec: &CurveSpec, curve: &'c Curve, value: f64) -> Option<(f64, &'c Cu
 /// another, go to the notes.
 fn nonlinear_critical_speed(spec: &CurveSpec, values: &[f64], report: &mut CurveReport) {
     let mut previous: Option<(f64, f64, String)> = None;
+    let mut previous_curve: Option<usize> = None;
     let mut unknown = Vec::new();
     for &value in values {
         // the lowest onset of the study's own creep law at this value
@@ -214,8 +215,10 @@ fn nonlinear_critical_speed(spec: &CurveSpec, values: &[f64], report: &mut Curve
             })
             .min_by(|a, b| a.0.total_cmp(&b.0));
         let mut best: Option<(f64, String)> = None;
+        let mut best_curve = None;
         if let Some((v, Some(HopfKind::Supercritical), i)) = onset {
             best = Some((v, format!("curve {i} (V_H, supercritical)")));
+            best_curve = Some(i);
         }
         for (i, c) in report.curves.iter().enumerate() {
             if c.kind != CurveKind::Fold {
@@ -228,6 +231,7 @@ fn nonlinear_critical_speed(spec: &CurveSpec, values: &[f64], report: &mut Curve
             if let Some(p) = fold {
                 if best.as_ref().is_none_or(|b| p.speed_m_s < b.0) {
                     best = Some((p.speed_m_s, format!("curve {i} ({})", c.label)));
+                    best_curve = Some(i);
                 }
             }
         }
@@ -239,14 +243,32 @@ fn nonlinear_critical_speed(spec: &CurveSpec, values: &[f64], report: &mut Curve
         };
         if let Some((pv, pspeed, psource)) = &previous {
             if *psource != source {
+                // where the previous curve ends inside the interval, V_NL jumps there
+                let ends = previous_curve
+                    .and_then(|i: usize| report.curves.get(i))
+                    .and_then(|c| {
+                        let last = c.points.iter().max_by(|a, b| {
+                            ((a.parameter - b.parameter) * (spec.range.1 - spec.range.0))
+                                .total_cmp(&0.0)
+                        })?;
+                        let inside = (last.parameter - pv) * (value - last.parameter) > 0.0;
+                        inside.then(|| {
+                            format!(
+                                " (that fold curve ends at {} = {}, {:.3} m/s)",
+                                spec.key, last.parameter, last.speed_m_s
+                            )
+                        })
+                    })
+                    .unwrap_or_default();
                 report.notes.push(format!(
-                    "V_NL changes curve between {} = {pv} and {value}: from {pspeed:.3} m/s on {psource} to {v:.3} m/s on {source}",
+                    "V_NL changes curve between {} = {pv} and {value}: from {pspeed:.3} m/s on {psource} to {v:.3} m/s on {source}{ends}",
                     spec.key
                 ));
             }
         }
         report.nonlinear_critical_speed.push((value, v));
         previous = Some((value, v, source));
+        previous_curve = best_curve;
     }
     if !unknown.is_empty() {
         let list: Vec<String> = unknown.iter().map(|v| format!("{v}")).collect();

@@ -1,7 +1,7 @@
 //! `curve.svg`: the critical speeds against the design key.
 
 use super::{figure, line, render, Rendered};
-use crate::curve::{CurveReport, SpecialKind};
+use crate::curve::{CurveKind, CurveReport, SpecialKind};
 use crate::plot::{Series, Style};
 use crate::stability::HopfKind;
 
@@ -40,8 +40,9 @@ fn number(v: f64) -> String {
 }
 
 /// $V_L$ (dashed) and $V_H$ (solid) against the key, every curve of each; the region where the
-/// centred motion is stable shaded in its curves' colour; subcritical stretches of the creep
-/// law's curves marked with crosses; the codimension-two points labelled in the legend.
+/// centred motion is stable shaded in its curves' colour; the folds of cycles (dashed) and
+/// V_NL's points; subcritical stretches of the creep law's curves marked with crosses; the
+/// codimension-two points labelled in the legend.
 pub fn curve(r: &CurveReport) -> Rendered {
     let unit = r.dimension.si_unit();
     let x_label = if unit.is_empty() {
@@ -90,6 +91,28 @@ pub fn curve(r: &CurveReport) -> Rendered {
             };
             fig.series.push(line(&name, points, region.label == "V_L"));
         }
+    }
+    // the folds of cycles, each curve a dashed line of one colour, and V_NL's points on top
+    let mut folds: Vec<(f64, f64)> = Vec::new();
+    for c in r.curves.iter().filter(|c| c.kind == CurveKind::Fold) {
+        if !folds.is_empty() {
+            folds.push((f64::NAN, f64::NAN));
+        }
+        folds.extend(c.points.iter().map(|p| (p.parameter, p.speed_m_s)));
+    }
+    if !folds.is_empty() {
+        fig.series.push(Series {
+            name: "folds of cycles".into(),
+            points: folds,
+            style: Style::Line { dashed: true },
+        });
+    }
+    if !r.nonlinear_critical_speed.is_empty() {
+        fig.series.push(Series {
+            name: "V_NL (lowest stable-side fold, or supercritical V_H)".into(),
+            points: r.nonlinear_critical_speed.clone(),
+            style: Style::Points,
+        });
     }
     // every third point of the subcritical stretches: a mark, not a second line
     let subcritical: Vec<(f64, f64)> = r
