@@ -207,6 +207,12 @@ fn the_fold_curve_ends_at_the_bautin_point() {
     // V_NL is continuous through the Bautin point: V_H on its supercritical side, the fold
     // on the other
     assert!(!r.nonlinear_critical_speed.is_empty());
+    // curve.csv with fold rows: every row has the header's cells (a label once held a comma)
+    let csv = critspeed::output::curve_csv(&r);
+    let cells = |l: &str| l.split(',').count();
+    let header = csv.lines().next().map_or(0, cells);
+    assert!(csv.lines().all(|l| cells(l) == header), "{csv}");
+    assert!(csv.lines().any(|l| l.contains(",fold,")));
 }
 
 /// At least `per_curve` points of every curve (ends included, the speed range's ends

@@ -56,9 +56,9 @@ fn split(spec: &CurveSpec, own: Option<f64>, grid: &[f64]) -> (f64, Vec<f64>, Ve
 
 fn label(kind: BranchKind) -> &'static str {
     match kind {
-        BranchKind::Symmetric => "fold, symmetric",
-        BranchKind::Asymmetric => "fold, asymmetric",
-        BranchKind::Period(_) => "fold, doubled",
+        BranchKind::Symmetric => "fold (symmetric)",
+        BranchKind::Asymmetric => "fold (asymmetric)",
+        BranchKind::Period(_) => "fold (doubled)",
     }
 }
 
