@@ -7,13 +7,14 @@ use super::{compute, user, Cancel, Failure, Kind, Source};
 use crate::curve::keyed::KeyedStudy;
 use crate::curve::{CurveError, CurveReport, CurveSpec};
 
-/// The column types of `curve.csv` (numbers but these).
+/// The column types of `curve.csv` (numbers but these; `stable_cycle` is empty on Hopf curves).
 pub const CURVE: &[(&str, Kind)] = &[
     ("kind", Kind::Text),
     ("creep_law", Kind::Text),
     ("label", Kind::Text),
     ("hopf_type", Kind::Text),
     ("stable_side", Kind::Text),
+    ("stable_cycle", Kind::OptBool),
 ];
 
 /// A study with its `[curve]` section resolved.
