@@ -25,6 +25,7 @@ use super::{BifurcationOptions, BranchKind};
 use std::sync::atomic::Ordering::Relaxed;
 use std::sync::atomic::{AtomicBool, AtomicU8};
 
+use crate::continuation::branch::{pack, unpack};
 use crate::continuation::{Branch, BranchPoint, BranchStop, OrbitPoint, SpecialKind};
 use crate::model::Vehicle;
 
@@ -163,22 +164,6 @@ fn out_id<const N: usize>(runs: &[Run<N>], run: &Run<N>) -> usize {
     runs.iter()
         .position(|r| std::ptr::eq(r, run))
         .unwrap_or_default()
-}
-
-fn pack<const N: usize>(z: &OrbitPoint<N>) -> DVector<f64> {
-    DVector::from_fn(N + 2, |i, _| match i {
-        i if i < N => z.x0[i],
-        i if i == N => z.period,
-        _ => z.param,
-    })
-}
-
-fn unpack<const N: usize>(v: &DVector<f64>) -> OrbitPoint<N> {
-    OrbitPoint {
-        x0: nalgebra::SVector::from_fn(|i, _| v[i]),
-        period: v[N],
-        param: v[N + 1],
-    }
 }
 
 /// The scaled unit chord from point `a` to point `b` of a branch, `None` if they coincide.

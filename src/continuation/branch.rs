@@ -228,7 +228,8 @@ struct Corrected<const N: usize> {
     seed: SegmentSeed<N>,
 }
 
-fn pack<const N: usize>(z: &OrbitPoint<N>) -> DVector<f64> {
+/// The orbit as the continuation's unknowns (x0, T, V).
+pub(crate) fn pack<const N: usize>(z: &OrbitPoint<N>) -> DVector<f64> {
     DVector::from_fn(N + 2, |i, _| match i {
         i if i < N => z.x0[i],
         i if i == N => z.period,
@@ -236,7 +237,8 @@ fn pack<const N: usize>(z: &OrbitPoint<N>) -> DVector<f64> {
     })
 }
 
-fn unpack<const N: usize>(v: &DVector<f64>) -> OrbitPoint<N> {
+/// The inverse of [`pack`].
+pub(crate) fn unpack<const N: usize>(v: &DVector<f64>) -> OrbitPoint<N> {
     OrbitPoint {
         x0: SVector::from_fn(|i, _| v[i]),
         period: v[N],
