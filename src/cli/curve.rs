@@ -119,6 +119,16 @@ pub fn summary(r: &CurveReport) -> String {
             if p.located { "located" } else { "bracketed" }
         );
     }
+    if !r.nonlinear_critical_speed.is_empty() {
+        let _ = writeln!(
+            s,
+            "  V_NL against {} (continuation: the lowest fold with a stable side, or V_H where supercritical; no attractor search, which can find hunting lower):",
+            r.key
+        );
+        for (p, v) in &r.nonlinear_critical_speed {
+            let _ = writeln!(s, "    {} = {p:.6e}: V_NL {v:.4} m/s", r.key);
+        }
+    }
     for n in &r.notes {
         let _ = writeln!(s, "  note: {n}");
     }
