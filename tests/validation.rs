@@ -25,6 +25,9 @@ mod closed_sections;
 mod curve_section;
 #[path = "validation/dtu_wheel.rs"]
 mod dtu_wheel;
+#[allow(dead_code)]
+#[path = "validation_sections/fold_curve.rs"]
+mod fold_curve_section;
 #[path = "validation/profiles.rs"]
 mod profiles_section;
 #[path = "validation_sections/table.rs"]
@@ -248,7 +251,8 @@ fn report() -> String {
     profiles_section::section(&mut s);
     auto07p_section::section(&mut s);
     curve_section::section(&mut s);
-    s.push_str("## 10. Not yet compared\n\nA published wheelset or bogie stability result with its linear and nonlinear critical speeds: none was found for a single wheelset (section 6); Cooperrider's bogie, as used by Kaas-Petersen and True, is a bogie, and this tool models one wheelset.\n");
+    fold_curve_section::section(&mut s);
+    s.push_str("## 11. Not yet compared\n\nA published wheelset or bogie stability result with its linear and nonlinear critical speeds: none was found for a single wheelset (section 6); Cooperrider's bogie, as used by Kaas-Petersen and True, is a bogie, and this tool models one wheelset.\n");
     s
 }
 
