@@ -1,53 +1,95 @@
-//! Folds of cycles followed over a design key (`critspeed curve`'s `"fold"` curves).
+//! Folds of cycles continued over a design key (`critspeed curve`'s `"fold"` curves).
 //!
-//! Each located fold of the diagram at the key's first value is followed to the next value by
-//! relocating it: the fold's cycle, moved back along its branch by a few steps of the fold's
-//! own chord direction, starts a short pseudo-arclength continuation in speed of the model at
-//! the new value, which crosses the fold and locates it with the diagram's own locator (the
-//! sign change of dV/ds, docs/model.md §9). The arclength corrector leaves the speed free, so
-//! the fold may move in speed between two values; when the relocation finds no fold, the step
-//! in the key is halved (up to [`MAX_HALVINGS`] times) before the curve is ended, with the
-//! interval where it was lost. A fold that disappears at a cusp (where it meets a second fold
-//! and both vanish) ends its curve that way.
+//! A fold (saddle-node) of cycles is a cycle at which the shooting problem's Jacobian in the
+//! orbit's own unknowns is singular. With $G(x_0, T, V; p)$ the shooting residual (half period
+//! for symmetric cycles, [`crate::continuation::Shooting`]) and the Poincaré phase row
+//! $⟨f_r, x_0 − x_r⟩$, let
 //!
-//! This is natural continuation in the key (one relocation per value) rather than a continuation
-//! of the extended fold system in (V, p) with a bordered monodromy: each point is the same
-//! located fold that a whole diagram at that key value gives (to the locator's tolerance), at a
-//! fraction of its cost, but a curve that turns back in the key (a fold of the fold curve, the
-//! cusp's geometry) is not followed round the turn.
+//! $$A = \begin{pmatrix} G_{x_0} & G_T \\ f_r^⊤ & 0 \end{pmatrix}, \qquad
+//! \begin{pmatrix} A & b \\ c^⊤ & 0 \end{pmatrix} \begin{pmatrix} v \\ g \end{pmatrix} =
+//! \begin{pmatrix} 0 \\ 1 \end{pmatrix}.$$
+//!
+//! The bordered matrix is regular near the fold when $b$ and $c$ approximate $A$'s left and
+//! right null vectors, and the scalar $g(x_0, T, V, p)$ vanishes exactly where $A$ is singular
+//! (the minimally augmented system of Govaerts, *Numerical Methods for Bifurcations of
+//! Dynamical Equilibria*, SIAM 2000, §4; AUTO-07p's and MatCont's fold-of-cycles curves solve
+//! the same condition on a collocation discretisation). The fold curve is the solution set of
+//!
+//! $$G = 0, \quad ⟨f_r, x_0 − x_r⟩ = 0, \quad g = 0$$
+//!
+//! in the $N + 3$ unknowns $(x_0, T, V, p)$, continued by pseudo-arclength in scaled units
+//! (Keller), so that it is followed round turns in the key: where the curve turns in $p$ two
+//! folds meet and vanish, a **cusp** of cycles (CPC), located on the arclength. The borders are
+//! the null vectors of the last accepted point. $∂G/∂p$ and the gradient of $g$ are one-sided
+//! differences (the model is rebuilt at the shifted key value; $g$'s second derivatives of the
+//! flow are not integrated); they only set Newton's rate, not the converged folds, so they are
+//! computed once per corrector (the chord method), each difference an independent
+//! linearisation run on rayon threads.
+//!
+//! The key's values of the curve's grid are user points: wherever an accepted step crosses
+//! one, the fold there is solved with the key pinned to it, so that V_NL can be compared across
+//! curves at the same values. Along the curve the multipliers other than the two at +1 (the
+//! trivial one and the fold's) are watched: a real one through −1 is a fold–flip point
+//! (LPPD; on a symmetric branch the fold meets a symmetry-breaking point, LPSB), a complex pair
+//! through the unit circle a fold–torus point (LPNS); these change which side of the fold is
+//! stable. A fold whose amplitude falls to zero has reached the Hopf curve at a generalised
+//! Hopf (Bautin) point, where the curve ends.
 
-use nalgebra::DVector;
-
-use super::driver::{Run, Setup};
+use nalgebra::{Complex, DMatrix, DVector, SVector};
 use rayon::prelude::*;
 
-use super::{BifurcationOptions, BranchKind};
-use std::sync::atomic::Ordering::Relaxed;
-use std::sync::atomic::{AtomicBool, AtomicU8};
+use super::driver::{Run, Setup};
+use super::BranchKind;
 
-use crate::continuation::branch::{pack, unpack};
-use crate::continuation::{Branch, BranchPoint, BranchStop, OrbitPoint, SpecialKind};
+use crate::continuation::branch::pack;
+use crate::continuation::{
+    orbit::Linearised, Floquet, OrbitPoint, SegmentSeed, Shooting, SpecialKind,
+};
 use crate::model::Vehicle;
+use crate::system::ode::{integrate, OdeOptions, VectorField};
 
-/// The most times a step in the key is halved before a fold curve is ended.
-pub const MAX_HALVINGS: usize = 4;
-
-/// Steps of the relocating continuation taken before the predicted fold.
-const BACK_STEPS: usize = 3;
-
-/// A located "fold" of smaller amplitude (m) is the Hopf point itself, where a run through
-/// zero amplitude turns onto the mirror cycles: the fold curve has reached a generalised Hopf
-/// point and ends.
+/// A located "fold" of smaller amplitude (m) is the Hopf point itself: the fold curve has
+/// reached a generalised Hopf point and ends.
 const MIN_FOLD_AMPLITUDE: f64 = 2e-5;
 
-/// The most cycles of one relocating run: it ends as soon as it has passed the fold.
-const MAX_RELOCATION_POINTS: usize = 24;
+/// A fold curve that cannot be continued further with a smaller amplitude (m) ends near a
+/// generalised Hopf point: the fold system degenerates as the amplitude falls to zero.
+const NEAR_HOPF_AMPLITUDE: f64 = 2.5e-4;
+
+/// The step (scaled) below which a fold curve under [`NEAR_HOPF_AMPLITUDE`] ends.
+const NEAR_HOPF_DS: f64 = 0.01;
+
+/// Accepted points of one direction of a fold curve at most.
+const MAX_POINTS: usize = 400;
+
+/// Newton iterations of one corrector at most (the chord method converges linearly).
+const MAX_ITERATIONS: usize = 12;
+
+/// A chord corrector refreshes its derivatives when an update shrinks by less than this
+/// factor, and fails when it does so again just after a refresh.
+const REFRESH: f64 = 0.3;
+
+/// Updates that stall below this many Newton tolerances are integration noise: the corrector
+/// has converged.
+const NOISE_FLOOR: f64 = 100.0;
+
+/// The largest angle between consecutive tangents (rad).
+const MAX_ANGLE: f64 = 0.3;
+
+/// Steps along the curve (scaled units: the key's range is [`KEY_UNITS`] units, 1 m/s of speed
+/// and about 1 mm of amplitude one unit).
+const DS_INITIAL: f64 = 0.5;
+const DS_MAX: f64 = 6.0;
+const DS_MIN: f64 = 1e-4;
+
+/// The key's whole range in scaled units.
+const KEY_UNITS: f64 = 100.0;
 
 /// A family of models over a design key.
 pub struct FoldTracking<'a> {
-    /// the key's values (SI) after the one the diagram was computed at, in order
+    /// the grid's key values (SI) after the one the diagram was computed at, in order
     pub values: &'a [f64],
-    /// the key's values (SI) before it, nearest first
+    /// the grid's key values (SI) before it, nearest first
     pub back: &'a [f64],
     /// the key's value of the diagram (SI)
     pub first: f64,
@@ -58,7 +100,7 @@ pub struct FoldTracking<'a> {
     pub skip: &'a (dyn Fn(f64, f64) -> bool + Sync),
 }
 
-/// One point of a followed fold.
+/// One point of a fold curve.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FoldTrackPoint {
     /// the key's value (SI)
@@ -69,64 +111,156 @@ pub struct FoldTrackPoint {
     pub period_s: f64,
     /// the leading wheelset's max |y| over the cycle (m)
     pub amplitude_m: f64,
-    /// whether a stable cycle branch ends at the fold (the branch on one side of it is stable):
-    /// such a fold is where a hunting motion disappears, a candidate for V_NL
+    /// whether a stable cycle branch ends at the fold (every multiplier but the two at +1
+    /// inside the unit circle): such a fold is where a hunting motion disappears, a candidate
+    /// for V_NL
     pub stable_side: bool,
-    /// located to tolerance (else only bracketed)
+    /// a solution of the fold system to Newton's tolerance
+    pub located: bool,
+    /// a user point: the key pinned to a value of the grid
+    pub on_grid: bool,
+}
+
+/// Codimension-two points on a fold curve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FoldSpecialKind {
+    /// the curve turns in the key: two folds meet and vanish (cusp of cycles)
+    Cusp,
+    /// a real multiplier passes −1 on the fold (fold–flip)
+    FoldFlip,
+    /// on a symmetric branch, a half-period multiplier passes −1 on the fold: the fold meets a
+    /// symmetry-breaking point
+    FoldSymmetryBreaking,
+    /// a complex pair passes the unit circle on the fold (fold–Neimark–Sacker)
+    FoldTorus,
+}
+
+/// A codimension-two point on a fold curve.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FoldSpecial {
+    /// what it is
+    pub kind: FoldSpecialKind,
+    /// the key's value (SI)
+    pub parameter: f64,
+    /// speed (m/s)
+    pub speed_m_s: f64,
+    /// the cycle's period (s)
+    pub period_s: f64,
+    /// amplitude (m)
+    pub amplitude_m: f64,
+    /// located on the arclength to the locator's tolerance (else bracketed between two points)
     pub located: bool,
 }
 
-/// A fold of cycles of the diagram followed over the key.
+/// A fold of cycles of the diagram continued over the key.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FoldTrack {
-    /// the branch of the diagram it lies on (its id in `branch.csv`)
+    /// the branch of the diagram it starts on (its id in `branch.csv`)
     pub branch: usize,
     /// that branch's kind
     pub branch_kind: BranchKind,
-    /// the points in the order of the key's values (`back` reversed, the diagram's fold,
-    /// `values`)
+    /// the points in order along the curve (the diagram's fold among them)
     pub points: Vec<FoldTrackPoint>,
-    /// why each end stopped, in words: (the `back` end, the `values` end)
+    /// cusps, fold–flip, fold–torus points on the curve, in order along it
+    pub special: Vec<FoldSpecial>,
+    /// why each end stopped, in words: (the first point's end, the last point's end)
     pub stops: (String, String),
 }
 
-/// One side of a followed fold.
-struct Side {
-    points: Vec<FoldTrackPoint>,
-    stop: String,
+/// Bordering vectors of the fold condition: `b` ≈ the left and `c` ≈ the right null vector of
+/// A (length N + 1, unit norm).
+#[derive(Clone, Debug)]
+struct Border {
+    b: DVector<f64>,
+    c: DVector<f64>,
 }
 
-/// A fold being followed: where it is and the direction of its branch there.
+/// An accepted point of the fold curve.
 #[derive(Clone)]
-struct Front<const N: usize> {
-    orbit: OrbitPoint<N>,
-    /// the branch's unit chord through the fold (scaled coordinates), pointing the way the
-    /// branch was traced
-    direction: DVector<f64>,
-    /// the arclength step of the relocating runs (scaled units)
-    ds: f64,
-    point: FoldTrackPoint,
-    /// the fold before (key value, packed orbit): the secant that predicts the next one
-    previous: Option<(f64, DVector<f64>)>,
-    /// whether the speed rises towards the fold along the branch (a fold at a maximum of the
-    /// speed), from either side
-    rising: bool,
+struct Point<const N: usize> {
+    /// (x0, T, V, p)
+    u: DVector<f64>,
+    /// unit tangent in scaled units
+    tangent: DVector<f64>,
+    floquet: Floquet,
+    amplitude: f64,
+    extent: f64,
+    border: Border,
+    seed: SegmentSeed<N>,
+    /// the chord derivatives (∂G/∂p, ∇g) the corrector ended with: the next one starts with
+    /// them
+    derivs: Derivs,
 }
 
-/// Follows every located fold of `runs` over `track`'s key values.
+/// ∂G/∂p (N) and ∇g (N + 3).
+type Derivs = (DVector<f64>, DVector<f64>);
+
+/// Where a corrector starts from: the borders, shooting segments, tangent (orientation) and
+/// chord derivatives of a nearby point.
+struct From<'p, const N: usize> {
+    border: &'p Border,
+    seed: &'p SegmentSeed<N>,
+    tangent: &'p DVector<f64>,
+    derivs: Option<&'p Derivs>,
+}
+
+impl<const N: usize> Point<N> {
+    fn from(&self) -> From<'_, N> {
+        From {
+            border: &self.border,
+            seed: &self.seed,
+            tangent: &self.tangent,
+            derivs: Some(&self.derivs),
+        }
+    }
+}
+
+/// The corrector's last row.
+enum Row<'r> {
+    /// pseudo-arclength through the prediction `zp` along `tangent`
+    Arclength {
+        tangent: &'r DVector<f64>,
+        zp: &'r DVector<f64>,
+    },
+    /// the key pinned to a value
+    Pin(f64),
+}
+
+/// The fold system of one branch's fold: what every corrector shares.
+struct FoldSystem<'a, const N: usize> {
+    setup: &'a Setup<'a, N>,
+    run: &'a Run<N>,
+    model_at: &'a (dyn Fn(f64) -> Result<Vehicle, String> + Sync),
+    /// scales of (x0, T, V, p)
+    scale: DVector<f64>,
+    /// the key's range (low, high)
+    bounds: (f64, f64),
+    /// the grid's key values (user points)
+    grid: Vec<f64>,
+    /// relative difference step
+    eps: f64,
+}
+
+/// Follows every located fold of `runs` over `track`'s key range.
 pub(super) fn follow<const N: usize>(
     setup: &Setup<'_, N>,
     runs: &[Run<N>],
     track: &FoldTracking<'_>,
 ) -> Vec<FoldTrack> {
-    // the models at the grid's values, built once for every fold
-    let build = |values: &[f64]| -> Vec<Result<Vehicle, String>> {
-        values.iter().map(|&v| (track.model_at)(v)).collect()
-    };
-    let (fore_models, back_models) = (build(track.values), build(track.back));
+    // the user points: the grid and the diagram's own value
+    let mut grid: Vec<f64> = track.back.iter().chain(track.values).copied().collect();
+    grid.push(track.first);
+    grid.sort_by(f64::total_cmp);
+    grid.dedup();
+    let low = grid
+        .first()
+        .copied()
+        .unwrap_or(track.first)
+        .min(track.first);
+    let high = grid.last().copied().unwrap_or(track.first).max(track.first);
     let mut jobs = Vec::new();
     for run in runs.iter() {
-        for (k, sp) in run.branch.special.iter().enumerate() {
+        for sp in run.branch.special.iter() {
             if sp.kind != SpecialKind::Fold
                 || !sp.located
                 || sp.amplitude < MIN_FOLD_AMPLITUDE
@@ -134,311 +268,805 @@ pub(super) fn follow<const N: usize>(
             {
                 continue;
             }
-            if let Some(front) = first_front(setup, run, k, track.first) {
-                jobs.push((run, front));
-            }
+            jobs.push((run, sp.orbit));
         }
     }
-    // every side of every fold on its own rayon task, each with serial shooting: on the
-    // 2-core machine the folds' relocations scale better than one relocation's segments
-    jobs.into_par_iter()
-        .map(|(run, front)| {
-            let (back, fore) = rayon::join(
-                || follow_one(setup, run, front.clone(), track, track.back, &back_models),
-                || follow_one(setup, run, front.clone(), track, track.values, &fore_models),
-            );
-            let mut points: Vec<FoldTrackPoint> = back.points.into_iter().skip(1).rev().collect();
-            points.extend(fore.points);
-            FoldTrack {
-                branch: out_id(runs, run),
-                branch_kind: run.kind,
-                points,
-                stops: (back.stop, fore.stop),
+    // one fold at a time (each curve's sides and differences run in parallel): a fold of the
+    // diagram that an earlier curve passed through (round a cusp) is not followed again
+    let mut tracks: Vec<FoldTrack> = Vec::new();
+    for (run, orbit) in jobs {
+        let on_known = tracks.iter().any(|t| {
+            t.points.iter().any(|p| {
+                p.parameter == track.first
+                    && (p.speed_m_s - orbit.param).abs() <= 1e-4 * orbit.param.abs()
+            })
+        });
+        if on_known {
+            continue;
+        }
+        let mut scale = setup.params(run.period_factor).scale;
+        scale.resize(N + 2, 1.0);
+        scale.push(((high - low) / KEY_UNITS).max(f64::MIN_POSITIVE));
+        let system = FoldSystem {
+            setup,
+            run,
+            model_at: track.model_at,
+            scale: DVector::from_vec(scale),
+            bounds: (low, high),
+            grid: grid.clone(),
+            eps: setup.opts.rtol.sqrt().max(1e-7),
+        };
+        let id = runs
+            .iter()
+            .position(|r| std::ptr::eq(r, run))
+            .unwrap_or_default();
+        tracks.push(system.curve(id, &orbit, track.first));
+    }
+    tracks
+}
+
+/// The multipliers of the shooting map (ν on a symmetric branch) other than the two nearest +1.
+fn others(f: &Floquet) -> Vec<Complex<f64>> {
+    let mut m: Vec<Complex<f64>> = f.shooting_multipliers().to_vec();
+    m.sort_by(|a, b| (a - 1.0).norm().total_cmp(&(b - 1.0).norm()));
+    m.into_iter().skip(2).collect()
+}
+
+/// Whether a stable cycle branch ends at a fold with multipliers `f`.
+fn stable_side(f: &Floquet) -> bool {
+    others(f).iter().all(|m| m.norm() < 1.0)
+}
+
+/// Multipliers (other than the two at +1) outside the unit circle: (real below −1, complex).
+fn census(f: &Floquet) -> (usize, usize) {
+    let real = |m: &Complex<f64>| m.im.abs() <= 1e-9 * m.norm();
+    others(f)
+        .iter()
+        .filter(|m| m.norm() > 1.0)
+        .fold((0, 0), |(n, c), m| {
+            if !real(m) {
+                (n, c + 1)
+            } else if m.re < 0.0 {
+                (n + 1, c)
+            } else {
+                (n, c)
             }
         })
-        .collect()
 }
 
-/// The id of `run` among `runs` (its place, as in `branch.csv`).
-fn out_id<const N: usize>(runs: &[Run<N>], run: &Run<N>) -> usize {
-    runs.iter()
-        .position(|r| std::ptr::eq(r, run))
-        .unwrap_or_default()
+/// The test function of a crossing on the fold: ∏(1 + ν) over the others (a real multiplier
+/// through −1), or the signed distance from the circle of the complex one nearest it.
+fn crossing_value(kind: FoldSpecialKind, f: &Floquet) -> f64 {
+    let m = others(f);
+    match kind {
+        FoldSpecialKind::FoldTorus => m
+            .iter()
+            .filter(|v| v.im.abs() > 1e-9 * v.norm())
+            .map(|v| v.norm() - 1.0)
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+            .unwrap_or(f64::NAN),
+        _ => {
+            m.iter()
+                .fold(Complex::new(1.0, 0.0), |acc, v| acc * (v + 1.0))
+                .re
+        }
+    }
 }
 
-/// The scaled unit chord from point `a` to point `b` of a branch, `None` if they coincide.
-fn chord<const N: usize>(
-    a: &OrbitPoint<N>,
-    b: &OrbitPoint<N>,
-    scale: &[f64],
-) -> Option<DVector<f64>> {
-    let d = pack(b) - pack(a);
-    let d = DVector::from_fn(N + 2, |i, _| d[i] / scale.get(i).copied().unwrap_or(1.0));
-    let n = d.norm();
-    (n > 0.0 && n.is_finite()).then(|| d / n)
+/// The N × N block and one column of a linearisation, with the phase row: A of the module's
+/// documentation, bordered.
+fn bordered<const N: usize>(
+    lin: &Linearised<N>,
+    fr: &SVector<f64, N>,
+    border: &Border,
+) -> DMatrix<f64> {
+    let n1 = N + 1;
+    let mut m = DMatrix::zeros(N + 2, N + 2);
+    m.view_mut((0, 0), (N, n1))
+        .copy_from(&lin.jacobian.columns(0, n1));
+    for i in 0..N {
+        m[(N, i)] = fr[i];
+    }
+    for i in 0..n1 {
+        m[(i, n1)] = border.b[i];
+        m[(n1, i)] = border.c[i];
+    }
+    m
 }
 
-/// Whether a stable cycle lies next to the fold `k` of `branch`.
-fn stable_side<const N: usize>(branch: &Branch<N>, after: usize) -> bool {
-    [after, after + 1]
-        .iter()
-        .filter_map(|&i| branch.points.get(i))
-        .any(|p| p.floquet.stable())
-}
-
-fn first_front<const N: usize>(
-    setup: &Setup<'_, N>,
-    run: &Run<N>,
-    k: usize,
-    parameter: f64,
-) -> Option<Front<N>> {
-    let sp = run.branch.special.get(k)?;
-    let a = run.branch.points.get(sp.after)?;
-    let b = run.branch.points.get(sp.after + 1)?;
-    let scale = setup.params(run.period_factor).scale;
-    let direction = chord(&a.orbit, &b.orbit, &scale)?;
-    let step = (pack(&b.orbit) - pack(&a.orbit))
-        .iter()
-        .zip(scale.iter())
-        .map(|(d, s)| (d / s).powi(2))
-        .sum::<f64>()
-        .sqrt();
-    Some(Front {
-        orbit: sp.orbit,
-        direction,
-        // half the branch's step at the fold, but at least 3 % of (1 mm + the amplitude) in
-        // scaled units (1 mm of amplitude ≈ 1 unit): the branch's steps shrink at a fold, and a
-        // window of a few such steps can miss where the fold has moved (on the DTU bogie a
-        // 0.002 window missed the 0.86 mm fold 1 % of the key away)
-        ds: (step / 2.0)
-            .max(0.03 * (1.0 + sp.amplitude / 1e-3))
-            .clamp(1e-3, 0.5),
-        point: FoldTrackPoint {
-            parameter,
-            speed_m_s: sp.orbit.param,
-            period_s: sp.orbit.period,
-            amplitude_m: sp.amplitude,
-            stable_side: stable_side(&run.branch, sp.after),
-            located: sp.located,
-        },
-        previous: None,
-        rising: a.tangent.get(N + 1).is_some_and(|v| *v > 0.0),
+/// g and the right and left null vectors (v, w) of A from the bordered matrix.
+fn fold_value(m: &DMatrix<f64>) -> Option<(f64, DVector<f64>, DVector<f64>)> {
+    let n = m.nrows();
+    let mut e = DVector::zeros(n);
+    e[n - 1] = 1.0;
+    let x = m.clone().lu().solve(&e)?;
+    let y = m.transpose().lu().solve(&e)?;
+    let g = x[n - 1];
+    (g.is_finite() && x.iter().chain(y.iter()).all(|v| v.is_finite())).then(|| {
+        (
+            g,
+            x.rows(0, n - 1).into_owned(),
+            y.rows(0, n - 1).into_owned(),
+        )
     })
 }
 
-/// One side: the fold of `front` relocated at each of `values` in turn.
-fn follow_one<const N: usize>(
-    setup: &Setup<'_, N>,
-    run: &Run<N>,
-    mut front: Front<N>,
-    track: &FoldTracking<'_>,
-    values: &[f64],
-    models: &[Result<Vehicle, String>],
-) -> Side {
-    let mut points = vec![front.point.clone()];
-    let mut stop = format!(
-        "end of the key's range ({})",
-        values.last().copied().unwrap_or(track.first)
-    );
-    let mut previous = track.first;
-    'values: for (i, &target) in values.iter().enumerate() {
-        if setup.cancel.is_some_and(|c| c()) {
-            stop = "cancelled".into();
-            break;
-        }
-        // the interval from `previous` to `target`, in pieces halved on failure
-        let mut pieces = 1usize;
-        let mut done = 0usize;
-        while done < pieces {
-            let at = previous + (target - previous) * (done + 1) as f64 / pieces as f64;
-            let built;
-            let model = if done + 1 == pieces {
-                match models.get(i) {
-                    Some(Ok(m)) => m,
-                    Some(Err(e)) => {
-                        stop = format!("no model at key value {target}: {e}");
-                        break 'values;
-                    }
-                    None => break 'values,
-                }
-            } else {
-                built = (track.model_at)(at);
-                match &built {
-                    Ok(m) => m,
-                    Err(e) => {
-                        stop = format!("no model at key value {at}: {e}");
-                        break 'values;
-                    }
-                }
-            };
-            match relocate(setup, run, model, &front, at) {
-                Ok(next) => {
-                    front = next;
-                    points.push(front.point.clone());
-                    done += 1;
-                }
-                Err(_) if pieces < 1 << MAX_HALVINGS => {
-                    // redo the rest of the interval in twice as many pieces
-                    let from = points.last().map_or(previous, |p| p.parameter);
-                    previous = from;
-                    pieces = 2 * (pieces - done);
-                    done = 0;
-                }
-                Err(why) => {
-                    let from = points.last().map_or(previous, |p| p.parameter);
-                    stop = format!(
-                        "the fold was not found between key values {from} and {at} (last at {:.4} m/s, {:.3} mm; {why})",
-                        front.point.speed_m_s,
-                        front.point.amplitude_m * 1e3
-                    );
-                    break 'values;
-                }
-            }
-        }
-        previous = target;
-    }
-    Side { points, stop }
+fn unit(v: DVector<f64>) -> Option<DVector<f64>> {
+    let n = v.norm();
+    (n > 0.0 && n.is_finite()).then(|| v / n)
 }
 
-/// The fold of `front` at the key value `parameter` (model `model`), by a short continuation
-/// through the window around the previous fold.
-fn relocate<const N: usize>(
-    setup: &Setup<'_, N>,
-    run: &Run<N>,
-    model: &Vehicle,
-    front: &Front<N>,
-    parameter: f64,
-) -> Result<Front<N>, String> {
-    let serial = BifurcationOptions {
-        parallel: false,
-        ..setup.opts.clone()
-    };
-    let here = Setup {
-        model,
-        opts: &serial,
-        ode: setup.ode,
-        params: setup.params.clone(),
-        amplitude: setup.amplitude,
-        extent: setup.extent,
-        progress: None,
-        cancel: setup.cancel,
-    };
-    let scale: Vec<f64> = here.params(run.period_factor).scale;
-    let shift = |k: f64, d: &DVector<f64>| {
-        DVector::from_fn(N + 2, |i, _| {
-            k * front.ds * d[i] * scale.get(i).copied().unwrap_or(1.0)
-        })
-    };
-    // the secant through the last two folds predicts where the fold lies at `parameter`
-    let here_z = pack(&front.orbit);
-    let centre = match &front.previous {
-        Some((p, z)) if *p != front.point.parameter => {
-            let t = (parameter - front.point.parameter) / (front.point.parameter - p);
-            &here_z + (&here_z - z) * t
+/// The orbit of the unknowns (x0, T, V, p).
+fn orbit_of<const N: usize>(u: &DVector<f64>) -> OrbitPoint<N> {
+    OrbitPoint {
+        x0: SVector::from_fn(|i, _| u[i]),
+        period: u[N],
+        param: u[N + 1],
+    }
+}
+
+/// A converged corrector.
+struct Corrected<const N: usize> {
+    point: Point<N>,
+    iterations: usize,
+}
+
+impl<const N: usize> FoldSystem<'_, N> {
+    fn p(u: &DVector<f64>) -> f64 {
+        u[N + 2]
+    }
+
+    fn shooting<'m>(&self, model: &'m Vehicle) -> Shooting<'m, N, Vehicle> {
+        Shooting {
+            field: model,
+            symmetric: self.run.symmetric,
+            ode: self.setup.ode,
+            dp_rel: self.setup.opts.rtol.sqrt(),
+            parallel: false,
+            // single shooting: with interior starts carried from linearisation to
+            // linearisation (multiple shooting's condensation), g would depend on where those
+            // starts were left, a different function at each iteration; the parallel work is
+            // in the differences instead
+            segments: 1,
         }
-        _ => here_z.clone(),
-    };
-    // From a few steps before the predicted fold, along the branch, until the speed stops
-    // rising (or falling) towards it: the fold is then located. A run whose first cycle
-    // already moves away from the fold started past it: it is run again the other way.
-    let attempt = |direction: &DVector<f64>| -> (Branch<N>, bool) {
-        let seen = AtomicU8::new(0); // 0: no cycle yet, 1: approaching, 2: done
-        let past = AtomicBool::new(false);
-        let progress = |p: &BranchPoint<N>| {
-            let towards = p
-                .tangent
-                .get(N + 1)
-                .is_some_and(|v| (*v > 0.0) == front.rising);
-            match (seen.load(Relaxed), towards) {
-                (0, true) => seen.store(1, Relaxed),
-                (0, false) => {
-                    past.store(true, Relaxed);
-                    seen.store(2, Relaxed);
+    }
+
+    fn model(&self, p: f64) -> Result<Vehicle, String> {
+        (self.model_at)(p)
+    }
+
+    /// The linearisation at `u` of `model` (built at `u`'s key value).
+    fn linearise(
+        &self,
+        model: &Vehicle,
+        u: &DVector<f64>,
+        seed: Option<&SegmentSeed<N>>,
+    ) -> Result<Linearised<N>, String> {
+        self.shooting(model)
+            .linearise_from(&orbit_of::<N>(u), seed)
+            .map_err(|e| format!("integration failed: {e}"))
+    }
+
+    /// ∂G/∂p at `u` by a one-sided difference of two plain flows (no monodromy): of the model
+    /// at `u`'s key value and at the shifted one.
+    fn g_p(&self, model: &Vehicle, u: &DVector<f64>) -> Result<DVector<f64>, String> {
+        let p = Self::p(u);
+        let hp = self.eps * self.scale[N + 2].max(p.abs() * 1e-3);
+        let hp = if p + hp > self.bounds.1 { -hp } else { hp };
+        let shifted = self.model(p + hp)?;
+        let o = orbit_of::<N>(u);
+        let span = if self.run.symmetric {
+            0.5 * o.period
+        } else {
+            o.period
+        };
+        let opts = OdeOptions {
+            monodromy: false,
+            ..self.setup.ode
+        };
+        let end = |m: &Vehicle| {
+            integrate(m, o.param, &o.x0, span, &opts)
+                .map(|s| s.x)
+                .map_err(|e| format!("integration failed: {e}"))
+        };
+        let (a, b) = rayon::join(|| end(model), || end(&shifted));
+        let d = (b? - a?) / hp;
+        Ok(DVector::from_column_slice(d.as_slice()))
+    }
+
+    /// The derivative rows the chord corrector keeps: ∂G/∂p (N) and ∇g (N + 3), by one-sided
+    /// differences of linearisations at shifted unknowns (in parallel).
+    fn differences(
+        &self,
+        model: &Vehicle,
+        u: &DVector<f64>,
+        base: &Linearised<N>,
+        g: f64,
+        (fr, border): (&SVector<f64, N>, &Border),
+        seed: Option<&SegmentSeed<N>>,
+    ) -> Result<Derivs, String> {
+        let p = Self::p(u);
+        // the key's step: inside the range (the model may be refused outside it)
+        let hp = self.eps * self.scale[N + 2].max(p.abs() * 1e-3);
+        let hp = if p + hp > self.bounds.1 { -hp } else { hp };
+        let shifted = self.model(p + hp)?;
+        // each shifted unknown: the difference of g and, for the key, the column ∂G/∂p
+        type Shifted = Result<(f64, Option<DVector<f64>>), String>;
+        let rows: Vec<Shifted> = (0..N + 3)
+            .into_par_iter()
+            .map(|k| {
+                let h = if k == N + 2 {
+                    hp
+                } else {
+                    self.eps * self.scale[k].max(u[k].abs() * 1e-3)
+                };
+                let mut uk = u.clone();
+                uk[k] += h;
+                let m = if k == N + 2 { &shifted } else { model };
+                let lin = self.linearise(m, &uk, seed)?;
+                let (gk, _, _) = fold_value(&bordered(&lin, fr, border))
+                    .ok_or("the bordered fold matrix is singular")?;
+                let gp = (k == N + 2).then(|| (lin.residual - base.residual).map(|d| d / h));
+                Ok((
+                    (gk - g) / h,
+                    gp.map(|v| DVector::from_column_slice(v.as_slice())),
+                ))
+            })
+            .collect();
+        let mut grad = DVector::zeros(N + 3);
+        let mut gp = DVector::zeros(N);
+        for (k, r) in rows.into_iter().enumerate() {
+            let (d, col) = r?;
+            grad[k] = d;
+            if let Some(col) = col {
+                gp = col;
+            }
+        }
+        Ok((gp, grad))
+    }
+
+    /// Newton (chord) on the fold system from `zp` with the last row `row`.
+    fn correct(
+        &self,
+        zp: &DVector<f64>,
+        row: Row<'_>,
+        from: &From<'_, N>,
+    ) -> Result<Corrected<N>, String> {
+        let old_tangent = from.tangent;
+        // the borders change only with the chord's derivatives: g's gradient depends on them
+        let mut border = from.border.clone();
+        let seed = Some(from.seed);
+        let s = &self.scale;
+        let mut u = zp.clone();
+        if let Row::Pin(q) = row {
+            u[N + 2] = q;
+        }
+        let reference = self.model(Self::p(&u))?;
+        let xr: SVector<f64, N> = SVector::from_fn(|i, _| u[i]);
+        let fr = reference.rhs(&xr, u[N + 1]);
+        let mut chord: Option<Derivs> = from.derivs.cloned();
+        let mut last_seed = seed.cloned();
+        let mut previous = f64::INFINITY;
+        let mut refreshed = false;
+        // the last update and g before it (Broyden)
+        let mut last_step: Option<(DVector<f64>, f64)> = None;
+        let tol = self.setup.params.newton_tol;
+        for it in 1..=MAX_ITERATIONS {
+            let model = self.model(Self::p(&u))?;
+            let lin = self.linearise(&model, &u, last_seed.as_ref())?;
+            let m = bordered(&lin, &fr, &border);
+            let (mut g, v, w) = fold_value(&m).ok_or("the bordered fold matrix is singular")?;
+            let fresh = chord.is_none();
+            if fresh {
+                // fresh derivatives: first the borders from this point's null vectors
+                if let (Some(b), Some(c)) = (unit(w), unit(v)) {
+                    border = Border { b, c };
+                    g = fold_value(&bordered(&lin, &fr, &border))
+                        .ok_or("the bordered fold matrix is singular")?
+                        .0;
                 }
-                (1, false) => seen.store(2, Relaxed),
-                _ => {}
+                chord = Some(self.differences(
+                    &model,
+                    &u,
+                    &lin,
+                    g,
+                    (&fr, &border),
+                    last_seed.as_ref(),
+                )?);
+            } else if let (Some((_, grad)), Some((d, g0))) = (chord.as_mut(), &last_step) {
+                // Broyden's update of g's row from the last step (scaled): the chord's
+                // gradient was taken at another point, and the secant through the last two
+                // iterates corrects it where Newton moves
+                let dd: f64 = d.iter().zip(s.iter()).map(|(x, sc)| (x / sc).powi(2)).sum();
+                if dd > 0.0 {
+                    let c = ((g - g0) - grad.dot(d)) / dd;
+                    for k in 0..N + 3 {
+                        grad[k] += c * d[k] / (s[k] * s[k]);
+                    }
+                }
+            }
+            // ∂G/∂p afresh at each iterate (two plain flows): a stale column would make the
+            // corrector converge only linearly
+            if !fresh {
+                if let Some((gp, _)) = chord.as_mut() {
+                    *gp = self.g_p(&model, &u)?;
+                }
+            }
+            let Some((gp, grad)) = chord.clone() else {
+                return Err("no derivatives".into());
+            };
+            let mut a = DMatrix::zeros(N + 3, N + 3);
+            let mut rhs = DVector::zeros(N + 3);
+            a.view_mut((0, 0), (N, N + 2)).copy_from(&lin.jacobian);
+            a.view_mut((0, N + 2), (N, 1)).copy_from(&gp);
+            for i in 0..N {
+                rhs[i] = -lin.residual[i];
+                a[(N, i)] = fr[i];
+            }
+            rhs[N] = -(0..N).map(|i| fr[i] * (u[i] - xr[i])).sum::<f64>();
+            for k in 0..N + 3 {
+                a[(N + 1, k)] = grad[k];
+            }
+            rhs[N + 1] = -g;
+            match &row {
+                Row::Arclength { tangent, zp } => {
+                    for k in 0..N + 3 {
+                        a[(N + 2, k)] = tangent[k] / s[k];
+                    }
+                    rhs[N + 2] = -(0..N + 3)
+                        .map(|k| tangent[k] * (u[k] - zp[k]) / s[k])
+                        .sum::<f64>();
+                }
+                Row::Pin(q) => {
+                    a[(N + 2, N + 2)] = 1.0;
+                    rhs[N + 2] = q - u[N + 2];
+                }
+            }
+            let mut delta = a
+                .clone()
+                .lu()
+                .solve(&rhs)
+                .filter(|d| d.iter().all(|x| x.is_finite()))
+                .ok_or("the fold system's Jacobian is singular")?;
+            u += &delta;
+            if let Row::Pin(q) = row {
+                u[N + 2] = q;
+                delta[N + 2] = 0.0;
+            }
+            last_step = Some((delta.clone(), g));
+            last_seed = Some(lin.seed.clone());
+            let size = delta
+                .iter()
+                .zip(s.iter())
+                .map(|(d, sc)| (d / sc).abs())
+                .fold(0.0, f64::max);
+            if !size.is_finite() {
+                return Err("Newton diverged".into());
+            }
+            // the chord's derivatives are refreshed when an update shrinks too slowly; a
+            // corrector that still does not contract with fresh ones has failed
+            let stalled = it >= 2 && size > REFRESH * previous;
+            if stalled && previous > NOISE_FLOOR * tol {
+                if refreshed {
+                    return Err(format!("Newton did not contract (update {size:.1e})"));
+                }
+                chord = None;
+                refreshed = true;
+            } else {
+                refreshed = false;
+            }
+            previous = size;
+            // near a generalised Hopf point g's gradient vanishes with the amplitude and the
+            // updates stall at the integration noise: converged there
+            if size <= tol || (stalled && size <= NOISE_FLOOR * tol) {
+                // the last linearisation, one update of at most the tolerance away, gives the
+                // multipliers and the amplitude (as on the branches)
+                // the tangent: the Jacobian's rows with the old tangent as last row
+                for k in 0..N + 3 {
+                    a[(N + 2, k)] = old_tangent[k] / s[k];
+                }
+                let mut e = DVector::zeros(N + 3);
+                e[N + 2] = 1.0;
+                let t = a
+                    .lu()
+                    .solve(&e)
+                    .ok_or("the fold curve's tangent is undefined")?;
+                let t = DVector::from_fn(N + 3, |k, _| t[k] / s[k]);
+                let mut t = unit(t).ok_or("the fold curve's tangent is undefined")?;
+                if t.dot(old_tangent) < 0.0 {
+                    t = -t;
+                }
+                let orbit = orbit_of::<N>(&u);
+                let amplitude = (self.setup.amplitude)(&orbit, &lin.peaks);
+                let extent = (self.setup.extent)(&lin.peaks);
+                return Ok(Corrected {
+                    point: Point {
+                        u,
+                        tangent: t,
+                        floquet: Floquet::from_monodromy(&lin.monodromy, self.run.symmetric),
+                        amplitude,
+                        extent,
+                        border,
+                        seed: lin.seed,
+                        derivs: (gp.clone(), grad.clone()),
+                    },
+                    iterations: it,
+                });
+            }
+        }
+        Err("Newton reached its iteration limit".into())
+    }
+
+    /// `a` with its chord derivatives and tangent taken afresh at `a` (one corrector from
+    /// `a` itself, keeping the key's direction).
+    fn refresh(&self, a: &Point<N>) -> Result<Point<N>, String> {
+        let from = From {
+            border: &a.border,
+            seed: &a.seed,
+            tangent: &a.tangent,
+            derivs: None,
+        };
+        let row = Row::Arclength {
+            tangent: &a.tangent,
+            zp: &a.u,
+        };
+        self.correct(&a.u, row, &from).map(|c| c.point)
+    }
+
+    fn predict(&self, u: &DVector<f64>, t: &DVector<f64>, ds: f64) -> DVector<f64> {
+        DVector::from_fn(N + 3, |k, _| u[k] + ds * t[k] * self.scale[k])
+    }
+
+    fn track_point(&self, p: &Point<N>, on_grid: bool) -> FoldTrackPoint {
+        FoldTrackPoint {
+            parameter: Self::p(&p.u),
+            speed_m_s: p.u[N + 1],
+            period_s: p.u[N],
+            amplitude_m: p.amplitude,
+            stable_side: stable_side(&p.floquet),
+            located: true,
+            on_grid,
+        }
+    }
+
+    /// The whole fold curve through the diagram's fold `orbit` at key value `first`.
+    fn curve(&self, branch: usize, orbit: &OrbitPoint<N>, first: f64) -> FoldTrack {
+        let lost = |why: String| FoldTrack {
+            branch,
+            branch_kind: self.run.kind,
+            points: Vec::new(),
+            special: Vec::new(),
+            stops: (why.clone(), why),
+        };
+        let start = match self.start(orbit, first) {
+            Ok(s) => s,
+            Err(e) => {
+                return lost(format!(
+                    "the diagram's fold could not be solved as a fold of the extended system: {e}"
+                ))
             }
         };
-        let stop = || seen.load(Relaxed) == 2 || setup.cancel.is_some_and(|c| c());
-        let mut c = here.continuation(run.symmetric, run.segments, run.period_factor, None);
-        c.params.ds_initial = front.ds;
-        c.params.ds_max = front.ds;
-        c.params.ds_min = front.ds * 1e-3;
-        c.params.max_points = MAX_RELOCATION_POINTS;
-        c.progress = Some(&progress);
-        c.cancel = Some(&stop);
-        let start = unpack::<N>(&(&centre + shift(-(BACK_STEPS as f64), direction)));
-        let b = c.run(start, direction.clone());
-        (b, past.load(Relaxed))
-    };
-    let (mut branch, past) = attempt(&front.direction);
-    if past && !setup.cancel.is_some_and(|c| c()) {
-        branch = attempt(&-&front.direction).0;
+        let (back, fore) = rayon::join(|| self.side(&start, -1.0), || self.side(&start, 1.0));
+        let (mut back_points, back_special, back_stop) = back;
+        let (fore_points, fore_special, fore_stop) = fore;
+        back_points.reverse();
+        let on_grid = self.grid.contains(&first);
+        back_points.push(self.track_point(&start, on_grid));
+        back_points.extend(fore_points);
+        let mut special: Vec<FoldSpecial> = back_special.into_iter().rev().collect();
+        special.extend(fore_special);
+        FoldTrack {
+            branch,
+            branch_kind: self.run.kind,
+            points: back_points,
+            special,
+            stops: (back_stop, fore_stop),
+        }
     }
-    let distance = |o: &OrbitPoint<N>| -> f64 {
-        let d = pack(o) - &centre;
-        d.iter()
-            .zip(scale.iter())
-            .map(|(d, s)| (d / s).powi(2))
-            .sum::<f64>()
-            .sqrt()
-    };
-    if setup.cancel.is_some_and(|c| c()) {
-        return Err("cancelled".into());
-    }
-    let sp = branch
-        .special
-        .iter()
-        .filter(|s| s.kind == SpecialKind::Fold)
-        .min_by(|a, b| distance(&a.orbit).total_cmp(&distance(&b.orbit)))
-        .ok_or_else(|| missing(&branch))?;
-    if sp.amplitude < MIN_FOLD_AMPLITUDE {
-        return Err(format!(
-            "the fold's amplitude falls to zero ({:.1} µm): it ends on the Hopf curve, at a generalised Hopf (Bautin) point",
-            sp.amplitude * 1e6
-        ));
-    }
-    let (Some(a), Some(b)) = (branch.points.get(sp.after), branch.points.get(sp.after + 1)) else {
-        return Err(missing(&branch));
-    };
-    let mut direction = chord(&a.orbit, &b.orbit, &scale).ok_or_else(|| missing(&branch))?;
-    if direction.dot(&front.direction) < 0.0 {
-        direction = -direction;
-    }
-    Ok(Front {
-        orbit: sp.orbit,
-        direction,
-        ds: front.ds,
-        point: FoldTrackPoint {
-            parameter,
-            speed_m_s: sp.orbit.param,
-            period_s: sp.orbit.period,
-            amplitude_m: sp.amplitude,
-            stable_side: stable_side(&branch, sp.after),
-            located: sp.located,
-        },
-        previous: Some((front.point.parameter, here_z)),
-        rising: front.rising,
-    })
-}
 
-/// Why a relocating run found no fold, from how it ended.
-fn missing<const N: usize>(branch: &Branch<N>) -> String {
-    let how = match branch.stop {
-        BranchStop::AmplitudeBound { amplitude } => format!(
-            "the cycles there reach the amplitude bound ({:.3} mm)",
-            amplitude * 1e3
-        ),
-        BranchStop::ParamBound { param } => {
-            format!("the cycles there leave the speed range ({param:.3} m/s)")
+    /// The diagram's fold solved as a point of the fold system at `first`, with the curve's
+    /// tangent pointing towards increasing key.
+    fn start(&self, orbit: &OrbitPoint<N>, first: f64) -> Result<Point<N>, String> {
+        let mut u = pack(orbit);
+        u.extend([first]);
+        let model = self.model(first)?;
+        let lin = self.linearise(&model, &u, None)?;
+        // the borders: A's singular vectors of its smallest singular value
+        let xr: SVector<f64, N> = orbit.x0;
+        let fr = model.rhs(&xr, orbit.param);
+        let mut a = DMatrix::zeros(N + 1, N + 1);
+        a.view_mut((0, 0), (N, N + 1))
+            .copy_from(&lin.jacobian.columns(0, N + 1));
+        for i in 0..N {
+            a[(N, i)] = fr[i];
         }
-        BranchStop::StepTooSmall { param, newton } => {
-            format!("no cycle could be corrected near {param:.3} m/s (Newton: {newton:?})")
+        let svd = a.svd(true, true);
+        let k = svd
+            .singular_values
+            .iter()
+            .enumerate()
+            .min_by(|x, y| x.1.total_cmp(y.1))
+            .map(|(k, _)| k)
+            .ok_or("no singular values")?;
+        let (Some(uu), Some(vt)) = (svd.u, svd.v_t) else {
+            return Err("no singular vectors".into());
+        };
+        let border = Border {
+            b: uu.column(k).into_owned(),
+            c: vt.row(k).transpose(),
+        };
+        let mut towards = DVector::zeros(N + 3);
+        towards[N + 2] = 1.0;
+        let from = From {
+            border: &border,
+            seed: &lin.seed,
+            tangent: &towards,
+            derivs: None,
+        };
+        let c = self.correct(&u, Row::Pin(first), &from)?;
+        let mut point = c.point;
+        if point.tangent[N + 2] < 0.0 {
+            point.tangent = -point.tangent;
         }
-        _ => format!(
-            "{} cycles around the last fold turn nowhere: the fold vanished (at a cusp with another fold, or at a generalised Hopf point where its amplitude falls to zero) or moved out of reach",
-            branch.points.len()
-        ),
-    };
-    format!("no fold: {how}")
+        Ok(point)
+    }
+
+    /// The grid values strictly beyond `a` up to and including `b` (in the order met).
+    fn crossed(&self, a: f64, b: f64) -> Vec<f64> {
+        let mut q: Vec<f64> = self
+            .grid
+            .iter()
+            .copied()
+            .filter(|&v| (v - a) * (b - a) > 0.0 && (v - a).abs() <= (b - a).abs())
+            .collect();
+        q.sort_by(|x, y| ((x - a).abs()).total_cmp(&(y - a).abs()));
+        q
+    }
+
+    /// One direction of the curve from `start` (`sign` +1: towards increasing key).
+    fn side(&self, start: &Point<N>, sign: f64) -> (Vec<FoldTrackPoint>, Vec<FoldSpecial>, String) {
+        let mut out = Vec::new();
+        let mut special = Vec::new();
+        let mut a = start.clone();
+        a.tangent = &a.tangent * sign;
+        let mut ds = DS_INITIAL;
+        let mut last_error = String::new();
+        let mut iterations = 0;
+        // whether `a`'s derivatives were taken at `a` itself
+        let mut a_fresh = false;
+        let cancelled = || self.setup.cancel.is_some_and(|c| c());
+        let stop = loop {
+            if cancelled() {
+                break "cancelled".to_string();
+            }
+            if out.len() >= MAX_POINTS {
+                break format!("{MAX_POINTS} points computed");
+            }
+            // near a generalised Hopf point the fold system degenerates with the amplitude:
+            // steps there shrink without end, so the curve ends once they are small
+            let crawling = a.amplitude < NEAR_HOPF_AMPLITUDE && ds < NEAR_HOPF_DS;
+            if ds < DS_MIN || crawling {
+                let near = if a.amplitude < NEAR_HOPF_AMPLITUDE {
+                    "; the fold's amplitude has fallen this far towards the Hopf curve: a generalised Hopf (Bautin) point is near"
+                } else {
+                    ""
+                };
+                break format!(
+                    "no fold could be solved beyond key value {} ({:.4} m/s, {:.3} mm): {last_error}{near}",
+                    Self::p(&a.u),
+                    a.u[N + 1],
+                    a.amplitude * 1e3
+                );
+            }
+            let zp = self.predict(&a.u, &a.tangent, ds);
+            let pa = Self::p(&a.u);
+            let pz = Self::p(&zp);
+            // the key's range ends here: the fold at the bound, then stop
+            let bound = if pz > self.bounds.1 {
+                Some(self.bounds.1)
+            } else if pz < self.bounds.0 {
+                Some(self.bounds.0)
+            } else {
+                None
+            };
+            if let Some(bound) = bound {
+                if pa == bound {
+                    break format!("end of the key's range ({bound})");
+                }
+                let t = (bound - pa) / (pz - pa);
+                let zq = &a.u + (&zp - &a.u) * t;
+                match self.correct(&zq, Row::Pin(bound), &a.from()) {
+                    Ok(c) => {
+                        let mut grid_points = Vec::new();
+                        for q in self.crossed(pa, bound) {
+                            if q == bound {
+                                continue;
+                            }
+                            let t = (q - pa) / (pz - pa);
+                            let zq = &a.u + (&zp - &a.u) * t;
+                            if let Ok(g) = self.correct(&zq, Row::Pin(q), &a.from()) {
+                                grid_points.push(self.track_point(&g.point, true));
+                            }
+                        }
+                        out.extend(grid_points);
+                        out.push(self.track_point(&c.point, self.grid.contains(&bound)));
+                        break format!("end of the key's range ({bound})");
+                    }
+                    Err(e) => {
+                        last_error = e;
+                        ds *= 0.5;
+                        continue;
+                    }
+                }
+            }
+            let trouble = match self.correct(
+                &zp,
+                Row::Arclength {
+                    tangent: &a.tangent,
+                    zp: &zp,
+                },
+                &a.from(),
+            ) {
+                Ok(c) if c.point.tangent.dot(&a.tangent) >= MAX_ANGLE.cos() => {
+                    iterations = c.iterations;
+                    Ok(c.point)
+                }
+                Ok(_) => Err("the curve turns too sharply".to_string()),
+                Err(e) => Err(e),
+            };
+            let c = match trouble {
+                Ok(c) => c,
+                Err(e) => {
+                    last_error = e;
+                    // the chord's derivatives (and so the tangent) may be stale: once per
+                    // point, take them afresh at the point before shortening the step
+                    if !a_fresh {
+                        a_fresh = true;
+                        if let Ok(r) = self.refresh(&a) {
+                            a = r;
+                            continue;
+                        }
+                    }
+                    ds *= 0.5;
+                    continue;
+                }
+            };
+            // the grid's values crossed: the fold there, the key pinned
+            let pc = Self::p(&c.u);
+            let mut grid_points = Vec::new();
+            let mut failed = None;
+            for q in self.crossed(pa, pc) {
+                let t = (q - pa) / (pc - pa);
+                let zq = &a.u + (&c.u - &a.u) * t;
+                match self.correct(&zq, Row::Pin(q), &a.from()) {
+                    Ok(g) => grid_points.push(self.track_point(&g.point, true)),
+                    Err(e) => {
+                        failed = Some(e);
+                        break;
+                    }
+                }
+            }
+            if let Some(e) = failed {
+                last_error = format!("at a grid value: {e}");
+                ds *= 0.5;
+                continue;
+            }
+            // a turn in the key between a and c: a cusp
+            if a.tangent[N + 2] * c.tangent[N + 2] < 0.0 {
+                special.push(self.locate(&a, &c, ds, FoldSpecialKind::Cusp));
+            }
+            let (ca, cc) = (census(&a.floquet), census(&c.floquet));
+            if (ca.0 + cc.0) % 2 == 1 {
+                let kind = if self.run.symmetric {
+                    FoldSpecialKind::FoldSymmetryBreaking
+                } else {
+                    FoldSpecialKind::FoldFlip
+                };
+                special.push(self.locate(&a, &c, ds, kind));
+            }
+            if ca.1 != cc.1 && ca.0 == cc.0 {
+                special.push(self.locate(&a, &c, ds, FoldSpecialKind::FoldTorus));
+            }
+            out.extend(grid_points);
+            let on_grid = self.grid.contains(&pc);
+            if !on_grid {
+                out.push(self.track_point(&c, false));
+            }
+            // step control by the corrector's iterations (the chord converges linearly)
+            let factor = match iterations {
+                0..=5 => 1.5,
+                6..=8 => 1.0,
+                _ => 0.6,
+            };
+            ds = (ds * factor).min(DS_MAX);
+            let reason = if c.amplitude < MIN_FOLD_AMPLITUDE {
+                Some(format!(
+                    "the fold's amplitude falls to zero ({:.1} µm at {:.4} m/s): the curve ends on the Hopf curve, at a generalised Hopf (Bautin) point",
+                    c.amplitude * 1e6,
+                    c.u[N + 1]
+                ))
+            } else if c.extent > self.setup.params.max_amplitude {
+                Some(format!(
+                    "the cycles reach the amplitude bound ({:.3} mm)",
+                    c.extent * 1e3
+                ))
+            } else if c.u[N + 1] < self.setup.params.param_range.0
+                || c.u[N + 1] > self.setup.params.param_range.1
+            {
+                Some(format!(
+                    "the fold leaves the speed range ({:.3} m/s)",
+                    c.u[N + 1]
+                ))
+            } else {
+                None
+            };
+            a = c;
+            a_fresh = false;
+            if let Some(r) = reason {
+                break r;
+            }
+        };
+        (out, special, stop)
+    }
+
+    /// A sign change of `kind`'s test between the accepted points `a` and `b` (`ds` apart),
+    /// located by the Illinois method on the arclength from `a`; bracketed when a corrector
+    /// fails.
+    fn locate(&self, a: &Point<N>, b: &Point<N>, ds: f64, kind: FoldSpecialKind) -> FoldSpecial {
+        let test = |p: &Point<N>| match kind {
+            FoldSpecialKind::Cusp => p.tangent[N + 2],
+            _ => crossing_value(kind, &p.floquet),
+        };
+        let make = |p: &Point<N>, located: bool| FoldSpecial {
+            kind,
+            parameter: Self::p(&p.u),
+            speed_m_s: p.u[N + 1],
+            period_s: p.u[N],
+            amplitude_m: p.amplitude,
+            located,
+        };
+        let (mut lo, mut glo) = (0.0, test(a));
+        let (mut hi, mut ghi) = (ds, test(b));
+        let mut best = b.clone();
+        let tol = 1e-6 * ds.max(1.0);
+        let mut side = 0i8;
+        for _ in 0..40 {
+            if hi - lo <= tol {
+                return make(&best, true);
+            }
+            let s = (lo * ghi - hi * glo) / (ghi - glo);
+            let s = if s.is_finite() && s > lo && s < hi {
+                s
+            } else {
+                0.5 * (lo + hi)
+            };
+            let zp = self.predict(&a.u, &a.tangent, s);
+            let Ok(c) = self.correct(
+                &zp,
+                Row::Arclength {
+                    tangent: &a.tangent,
+                    zp: &zp,
+                },
+                &a.from(),
+            ) else {
+                break;
+            };
+            let gs = test(&c.point);
+            if gs.signum() == glo.signum() {
+                (lo, glo) = (s, gs);
+                if side == -1 {
+                    ghi *= 0.5;
+                }
+                side = -1;
+            } else {
+                (hi, ghi) = (s, gs);
+                if side == 1 {
+                    glo *= 0.5;
+                }
+                side = 1;
+            }
+            best = c.point;
+        }
+        make(&best, hi - lo <= tol)
+    }
 }

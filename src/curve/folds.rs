@@ -1,15 +1,19 @@
-//! The fold curves and V_NL against the key: the diagram at the key's first value, its
-//! located folds of cycles relocated at each key value (`crate::bifurcation::fold_track`),
-//! and V_NL at each of those values from the folds and the supercritical V_H.
+//! The fold curves and V_NL against the key: the diagrams at the study's own key value and at
+//! a few values of the fold grid, their located folds of cycles continued over the key as
+//! solutions of the fold system (`crate::bifurcation::fold_track`), and V_NL at each grid value
+//! from the folds and the supercritical V_H.
 
-use crate::bifurcation::fold_track::{FoldTrack, FoldTracking};
+use crate::bifurcation::fold_track::{FoldSpecial, FoldSpecialKind, FoldTrack, FoldTracking};
 use crate::bifurcation::{self, BranchKind, Hooks};
 use crate::stability::HopfKind;
 
 use super::keyed::KeyedStudy;
 use super::run::to_p;
 use super::spec::CurveSpec;
-use super::{Curve, CurveError, CurveKind, CurvePoint, CurveReport, CurveStop, StableSide};
+use super::{
+    Curve, CurveError, CurveKind, CurvePoint, CurveReport, CurveStop, SpecialKind, SpecialPoint,
+    StableSide,
+};
 
 /// The key's value at `P` = `p`.
 fn from_p(spec: &CurveSpec, p: f64) -> f64 {
@@ -127,6 +131,10 @@ pub(super) fn fold_curves(
         diagrams += 1;
         report.stats.models_built += fore.len() + back.len() + 1;
         for t in &tracks {
+            let index = report.curves.len();
+            for sp in &t.special {
+                report.special_points.push(special_point(sp, index));
+            }
             report.curves.push(curve(t, law, first));
         }
     }
@@ -145,6 +153,25 @@ pub(super) fn fold_curves(
     nonlinear_critical_speed(spec, &at_values, report);
     unfollowed_bautin_points(spec, first, report);
     Ok(())
+}
+
+/// A cusp, fold–flip or fold–torus point of the fold curve `curve`.
+fn special_point(sp: &FoldSpecial, curve: usize) -> SpecialPoint {
+    SpecialPoint {
+        kind: match sp.kind {
+            FoldSpecialKind::Cusp => SpecialKind::Cusp,
+            FoldSpecialKind::FoldFlip => SpecialKind::FoldFlip,
+            FoldSpecialKind::FoldSymmetryBreaking => SpecialKind::FoldSymmetryBreaking,
+            FoldSpecialKind::FoldTorus => SpecialKind::FoldTorus,
+        },
+        curve,
+        other_curve: None,
+        parameter: sp.parameter,
+        speed_m_s: sp.speed_m_s,
+        frequency_hz: 1.0 / sp.period_s,
+        second_frequency_hz: None,
+        located: sp.located,
+    }
 }
 
 fn curve(t: &FoldTrack, law: crate::contact::creep::CreepLaw, first: f64) -> Curve {
@@ -224,12 +251,19 @@ fn nonlinear_critical_speed(spec: &CurveSpec, values: &[f64], report: &mut Curve
             if c.kind != CurveKind::Fold {
                 continue;
             }
+            // a curve that turns (a cusp) passes a value twice: its lowest stable-side fold
             let fold = c
                 .points
                 .iter()
-                .find(|p| p.parameter == value && p.stable_cycle == Some(true));
+                .filter(|p| p.parameter == value && p.stable_cycle == Some(true))
+                .min_by(|a, b| a.speed_m_s.total_cmp(&b.speed_m_s));
             if let Some(p) = fold {
-                if best.as_ref().is_none_or(|b| p.speed_m_s < b.0) {
+                // two curves through the same fold (followed from two diagrams) are one: the
+                // curve V_NL was on before keeps it
+                let same = best.as_ref().is_some_and(|b| {
+                    (p.speed_m_s - b.0).abs() <= 1e-7 * b.0 && previous_curve == Some(i)
+                });
+                if best.as_ref().is_none_or(|b| p.speed_m_s < b.0 - 1e-7 * b.0) || same {
                     best = Some((p.speed_m_s, format!("curve {i} ({})", c.label)));
                     best_curve = Some(i);
                 }
@@ -287,7 +321,7 @@ fn unfollowed_bautin_points(spec: &CurveSpec, first: f64, report: &mut CurveRepo
     let span = (to_p(spec, spec.range.1) - to_p(spec, spec.range.0)).abs();
     let mut notes = Vec::new();
     for s in &report.special_points {
-        if s.kind != super::SpecialKind::Bautin {
+        if s.kind != SpecialKind::Bautin {
             continue;
         }
         let reached = report

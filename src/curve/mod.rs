@@ -8,11 +8,13 @@
 //! values of the key ([`CurveSpec::seed_points`]), with the first Lyapunov coefficient and
 //! the Hopf type at every point, and the generalised Hopf (Bautin), double Hopf, zero-Hopf
 //! and Bogdanov–Takens points located on them. **Fold curves** (`crate::bifurcation::fold_track`):
-//! every located fold of cycles of the study's diagram at the key's first value, relocated at
-//! each of [`CurveSpec::fold_points`] key values; V_NL against the key from them and the
-//! supercritical parts of the V_H curves, with its jumps. The bifurcations of cycles
-//! (symmetry breaking, period doubling, torus) are not continued yet: asking for them puts a
-//! note in the report.
+//! every located fold of cycles of the diagrams at the study's own key value and at a few grid
+//! values, continued over the key as solutions of the minimally augmented fold system
+//! (bordered shooting Jacobian), with cusps, fold–flip, fold–torus and fold–symmetry-breaking
+//! points located on them and the fold solved at each of [`CurveSpec::fold_points`] key values;
+//! V_NL against the key from them and the supercritical parts of the V_H curves, with its
+//! jumps. The bifurcations of cycles (symmetry breaking, period doubling, torus) are not
+//! continued as curves yet: asking for them puts a note in the report.
 //!
 //! Data flow: [`keyed::KeyedStudy`] (the study at any value of the key) → a
 //! [`family::HopfFamily`] per creep law → the continuation → [`CurveReport`] (plain data for
@@ -89,16 +91,30 @@ pub enum SpecialKind {
     ZeroHopf,
     /// the pair meets at zero frequency and the Hopf curve ends
     BogdanovTakens,
+    /// a fold curve of cycles turns in the key: two folds meet and vanish (cusp of cycles)
+    Cusp,
+    /// a real multiplier passes −1 on a fold of cycles (fold–flip)
+    FoldFlip,
+    /// a half-period multiplier of a symmetric cycle passes −1 on its fold: the fold meets a
+    /// symmetry-breaking point
+    FoldSymmetryBreaking,
+    /// a complex pair passes the unit circle on a fold of cycles (fold–Neimark–Sacker)
+    FoldTorus,
 }
 
 impl SpecialKind {
-    /// `"bautin"`, `"double_hopf"`, `"zero_hopf"`, `"bogdanov_takens"`.
+    /// `"bautin"`, `"double_hopf"`, `"zero_hopf"`, `"bogdanov_takens"`, `"cusp"`,
+    /// `"fold_flip"`, `"fold_symmetry_breaking"`, `"fold_torus"`.
     pub fn name(self) -> &'static str {
         match self {
             SpecialKind::Bautin => "bautin",
             SpecialKind::DoubleHopf => "double_hopf",
             SpecialKind::ZeroHopf => "zero_hopf",
             SpecialKind::BogdanovTakens => "bogdanov_takens",
+            SpecialKind::Cusp => "cusp",
+            SpecialKind::FoldFlip => "fold_flip",
+            SpecialKind::FoldSymmetryBreaking => "fold_symmetry_breaking",
+            SpecialKind::FoldTorus => "fold_torus",
         }
     }
 
@@ -109,6 +125,10 @@ impl SpecialKind {
             SpecialKind::DoubleHopf => "HH",
             SpecialKind::ZeroHopf => "ZH",
             SpecialKind::BogdanovTakens => "BT",
+            SpecialKind::Cusp => "CPC",
+            SpecialKind::FoldFlip => "LPPD",
+            SpecialKind::FoldSymmetryBreaking => "LPSB",
+            SpecialKind::FoldTorus => "LPNS",
         }
     }
 }

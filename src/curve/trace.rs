@@ -147,7 +147,11 @@ fn test_value(kind: SpecialKind, e: &Evaluated, detect: bool) -> Option<f64> {
         }
         SpecialKind::DoubleHopf => e.second.map(|z| z.0),
         SpecialKind::ZeroHopf => Some(e.det),
-        SpecialKind::BogdanovTakens => None,
+        SpecialKind::BogdanovTakens
+        | SpecialKind::Cusp
+        | SpecialKind::FoldFlip
+        | SpecialKind::FoldSymmetryBreaking
+        | SpecialKind::FoldTorus => None,
     }
 }
 

@@ -135,6 +135,10 @@ pub fn curve(r: &CurveReport) -> Rendered {
         SpecialKind::DoubleHopf,
         SpecialKind::ZeroHopf,
         SpecialKind::BogdanovTakens,
+        SpecialKind::Cusp,
+        SpecialKind::FoldTorus,
+        SpecialKind::FoldFlip,
+        SpecialKind::FoldSymmetryBreaking,
     ] {
         let here: Vec<_> = r.special_points.iter().filter(|s| s.kind == kind).collect();
         if here.is_empty() {
@@ -151,8 +155,14 @@ pub fn curve(r: &CurveReport) -> Rendered {
                 )
             })
             .collect();
+        // more than three points: their count (curve.json lists them)
+        let listed = if names.len() > 3 {
+            format!("{} points", names.len())
+        } else {
+            names.join(", ")
+        };
         fig.series.push(Series {
-            name: format!("{}: {}", kind.label(), names.join(", ")),
+            name: format!("{}: {listed}", kind.label()),
             points: here.iter().map(|s| (s.parameter, s.speed_m_s)).collect(),
             style: Style::Points,
         });
