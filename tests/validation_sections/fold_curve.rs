@@ -119,10 +119,9 @@ pub fn rows() -> Vec<FoldRow> {
             if (mu - grid).abs() > 1e-9 {
                 return None;
             }
-            let ours = fold
-                .iter()
-                .find(|p| (p.parameter - grid).abs() < 1e-9)
-                .unwrap_or_else(|| panic!("critspeed's fold curve has no point at {grid}"));
+            // critspeed's curve ends at the study's 12 mm amplitude bound (friction 0.448): the
+            // fold at 0.45 (12.12 mm) lies beyond it and is not compared
+            let ours = fold.iter().find(|p| (p.parameter - grid).abs() < 1e-9)?;
             let auto_speed = meshes
                 .iter()
                 .zip(MESHES)
