@@ -41,7 +41,7 @@ use rayon::prelude::*;
 use super::driver::{Run, Setup};
 use super::BranchKind;
 
-use crate::continuation::branch::pack;
+use crate::continuation::branch::{illinois, pack};
 use crate::continuation::{
     orbit::Linearised, Floquet, OrbitPoint, SegmentSeed, Shooting, SpecialKind,
 };
@@ -1025,48 +1025,16 @@ impl<const N: usize> FoldSystem<'_, N> {
             amplitude_m: p.amplitude,
             located,
         };
-        let (mut lo, mut glo) = (0.0, test(a));
-        let (mut hi, mut ghi) = (ds, test(b));
-        let mut best = b.clone();
         let tol = 1e-6 * ds.max(1.0);
-        let mut side = 0i8;
-        for _ in 0..40 {
-            if hi - lo <= tol {
-                return make(&best, true);
-            }
-            let s = (lo * ghi - hi * glo) / (ghi - glo);
-            let s = if s.is_finite() && s > lo && s < hi {
-                s
-            } else {
-                0.5 * (lo + hi)
-            };
+        let eval = |s: f64| {
             let zp = self.predict(&a.u, &a.tangent, s);
-            let Ok(c) = self.correct(
-                &zp,
-                Row::Arclength {
-                    tangent: &a.tangent,
-                    zp: &zp,
-                },
-                &a.from(),
-            ) else {
-                break;
+            let row = Row::Arclength {
+                tangent: &a.tangent,
+                zp: &zp,
             };
-            let gs = test(&c.point);
-            if gs.signum() == glo.signum() {
-                (lo, glo) = (s, gs);
-                if side == -1 {
-                    ghi *= 0.5;
-                }
-                side = -1;
-            } else {
-                (hi, ghi) = (s, gs);
-                if side == 1 {
-                    glo *= 0.5;
-                }
-                side = 1;
-            }
-            best = c.point;
-        }
-        make(&best, hi - lo <= tol)
+            self.correct(&zp, row, &a.from()).ok().map(|c| c.point)
+        };
+        let (best, bracket) = illinois(test(a), ds, b.clone(), tol, eval, test);
+        make(&best, bracket <= tol)
     }
 }

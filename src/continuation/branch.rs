@@ -641,60 +641,11 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             iterations: 0,
             seed: a.seed.clone(),
         };
-        let (mut lo, mut glo) = (0.0, g(&a_c));
         let Some(end) = eval(ds) else {
             return (self.bracketed(kind, index, a, ds), runs.get());
         };
-        let (mut hi, mut ghi) = (ds, g(&end));
-        let mut best = end;
-        let mut side = 0i8;
         let tol = self.params.locate_tol * ds.max(1.0);
-        for _ in 0..60 {
-            if (hi - lo).abs() <= tol {
-                break;
-            }
-            let s = (lo * ghi - hi * glo) / (ghi - glo);
-            let s = if s.is_finite() && s > lo && s < hi {
-                s
-            } else {
-                0.5 * (lo + hi)
-            };
-            // A secant point within tol/2 of the end moved last would shrink the bracket by
-            // less than that: step tol/2 past it instead, which closes the bracket when the root
-            // lies there (the secant points otherwise crowd one end, where g is only as exact
-            // as the correctors: S1002's fold took 13 correctors on two segments, 7 at s equal
-            // to 5 digits).
-            let s = match side {
-                -1 if s - lo < 0.5 * tol => (lo + 0.5 * tol).min(hi),
-                1 if hi - s < 0.5 * tol => (hi - 0.5 * tol).max(lo),
-                _ => s,
-            };
-            // a corrector that fails at the secant point may converge at the bisection
-            // point (near a fold the secant point can sit where the predictor is poor)
-            let mid = 0.5 * (lo + hi);
-            let Some((s, c)) = eval(s)
-                .map(|c| (s, c))
-                .or_else(|| (s != mid).then(|| eval(mid).map(|c| (mid, c))).flatten())
-            else {
-                break;
-            };
-            let gs = g(&c);
-            if gs.signum() == glo.signum() {
-                (lo, glo) = (s, gs);
-                if side == -1 {
-                    ghi *= 0.5;
-                }
-                side = -1;
-            } else {
-                (hi, ghi) = (s, gs);
-                if side == 1 {
-                    glo *= 0.5;
-                }
-                side = 1;
-            }
-            best = c;
-        }
-        let bracket = (hi - lo).abs();
+        let (best, bracket) = illinois(g(&a_c), ds, end, tol, eval, g);
         let sp = SpecialPoint {
             kind,
             after: index,
@@ -724,6 +675,71 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             bracket: ds,
         }
     }
+}
+
+/// Illinois (regula falsi with the retained end's value halved) on the arclength
+/// $s ∈ (0, ds)$ for a sign change of `g`: `g0` is its value at $s = 0$, `end` the corrected
+/// point at $s = ds$, `eval(s)` the corrector at $s$ (`None`: it failed). Returns the last
+/// corrected point and the width of the final bracket (at most `tol` when located). Shared by
+/// the special points of branches and of fold curves (`crate::bifurcation::fold_track`).
+pub(crate) fn illinois<T>(
+    g0: f64,
+    ds: f64,
+    end: T,
+    tol: f64,
+    mut eval: impl FnMut(f64) -> Option<T>,
+    g: impl Fn(&T) -> f64,
+) -> (T, f64) {
+    let (mut lo, mut glo) = (0.0, g0);
+    let (mut hi, mut ghi) = (ds, g(&end));
+    let mut best = end;
+    let mut side = 0i8;
+    for _ in 0..60 {
+        if (hi - lo).abs() <= tol {
+            break;
+        }
+        let s = (lo * ghi - hi * glo) / (ghi - glo);
+        let s = if s.is_finite() && s > lo && s < hi {
+            s
+        } else {
+            0.5 * (lo + hi)
+        };
+        // A secant point within tol/2 of the end moved last would shrink the bracket by
+        // less than that: step tol/2 past it instead, which closes the bracket when the root
+        // lies there (the secant points otherwise crowd one end, where g is only as exact
+        // as the correctors: S1002's fold took 13 correctors on two segments, 7 at s equal
+        // to 5 digits).
+        let s = match side {
+            -1 if s - lo < 0.5 * tol => (lo + 0.5 * tol).min(hi),
+            1 if hi - s < 0.5 * tol => (hi - 0.5 * tol).max(lo),
+            _ => s,
+        };
+        // a corrector that fails at the secant point may converge at the bisection
+        // point (near a fold the secant point can sit where the predictor is poor)
+        let mid = 0.5 * (lo + hi);
+        let Some((s, c)) = eval(s)
+            .map(|c| (s, c))
+            .or_else(|| (s != mid).then(|| eval(mid).map(|c| (mid, c))).flatten())
+        else {
+            break;
+        };
+        let gs = g(&c);
+        if gs.signum() == glo.signum() {
+            (lo, glo) = (s, gs);
+            if side == -1 {
+                ghi *= 0.5;
+            }
+            side = -1;
+        } else {
+            (hi, ghi) = (s, gs);
+            if side == 1 {
+                glo *= 0.5;
+            }
+            side = 1;
+        }
+        best = c;
+    }
+    (best, (hi - lo).abs())
 }
 
 /// Runs `work` on a worker of the current rayon pool while the pool's other workers stay
