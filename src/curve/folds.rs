@@ -276,24 +276,45 @@ fn nonlinear_critical_speed(spec: &CurveSpec, values: &[f64], report: &mut Curve
             continue;
         };
         if let Some((pv, pspeed, psource)) = &previous {
-            if *psource != source {
-                // where the previous curve ends inside the interval, V_NL jumps there
-                let ends = previous_curve
-                    .and_then(|i: usize| report.curves.get(i))
-                    .and_then(|c| {
-                        let last = c.points.iter().max_by(|a, b| {
-                            ((a.parameter - b.parameter) * (spec.range.1 - spec.range.0))
-                                .total_cmp(&0.0)
-                        })?;
-                        let inside = (last.parameter - pv) * (value - last.parameter) > 0.0;
-                        inside.then(|| {
-                            format!(
-                                " (that fold curve ends at {} = {}, {:.3} m/s)",
-                                spec.key, last.parameter, last.speed_m_s
-                            )
-                        })
+            // the new curve through the previous value's V_NL fold: the same fold, followed
+            // from two diagrams (the previous curve ended early), not a change
+            let same_fold = best_curve
+                .and_then(|i| report.curves.get(i))
+                .is_some_and(|c| {
+                    c.points.iter().any(|p| {
+                        p.parameter == *pv && (p.speed_m_s - pspeed).abs() <= 1e-7 * pspeed
                     })
-                    .unwrap_or_default();
+                });
+            if *psource != source && !same_fold {
+                // where the previous curve turns back at a cusp inside the interval, or ends
+                // there, V_NL jumps there
+                let inside = |p: f64| (p - pv) * (value - p) > 0.0;
+                let cusp = previous_curve.and_then(|i| {
+                    report.special_points.iter().find(|s| {
+                        s.kind == SpecialKind::Cusp && s.curve == i && inside(s.parameter)
+                    })
+                });
+                let ends = match cusp {
+                    Some(s) => format!(
+                        " (that fold curve turns back at a cusp at {} = {}, {:.3} m/s: the stable cycle it bounds exists only on one side)",
+                        spec.key, s.parameter, s.speed_m_s
+                    ),
+                    None => previous_curve
+                        .and_then(|i: usize| report.curves.get(i))
+                        .and_then(|c| {
+                            let last = c.points.iter().max_by(|a, b| {
+                                ((a.parameter - b.parameter) * (spec.range.1 - spec.range.0))
+                                    .total_cmp(&0.0)
+                            })?;
+                            inside(last.parameter).then(|| {
+                                format!(
+                                    " (that fold curve ends at {} = {}, {:.3} m/s)",
+                                    spec.key, last.parameter, last.speed_m_s
+                                )
+                            })
+                        })
+                        .unwrap_or_default(),
+                };
                 report.notes.push(format!(
                     "V_NL changes curve between {} = {pv} and {value}: from {pspeed:.3} m/s on {psource} to {v:.3} m/s on {source}{ends}",
                     spec.key
