@@ -6,7 +6,8 @@
 //! * `curve_dtu_bogie_yaw_damping_hopf`: the six Hopf curves of the DTU bogie over the
 //!   yaw-damper rate (0 to 400 kN s/m), with its two double Hopf points.
 //! * `curve_cubic_fold_friction_folds`: the fold curves and V_NL of `studies/cubic-fold.toml`
-//!   over friction 0.05 to 0.6 (six diagrams, the fold relocated at 12 friction values).
+//!   over friction 0.05 to 0.6 (the diagrams at the study's own and at five grid values, the
+//!   fold continued as the fold system over the range, solved at 12 friction values).
 //! * `first_lyapunov_seed_hunting`: l1 at the Shen Hopf point of `studies/seed-hunting.toml`
 //!   (Richardson tableau of central differences of the exact Jacobian).
 
