@@ -55,7 +55,17 @@ pub fn curve_study(source: &Source) -> Result<CurveStudy, Failure> {
 /// The curves the study's `[curve]` section asks for; `cancel` is asked before every
 /// continuation step (a cancelled run is a [`Failure::Compute`] saying so).
 pub fn curve(study: &CurveStudy, cancel: Cancel<'_>) -> Result<CurveReport, Failure> {
-    let report = crate::curve::analyse(&study.keyed, &study.spec, cancel).map_err(failure)?;
+    curve_with_progress(study, cancel, None)
+}
+
+/// [`curve`], calling `progress` with a line of text as each diagram and curve is done.
+pub fn curve_with_progress(
+    study: &CurveStudy,
+    cancel: Cancel<'_>,
+    progress: Option<&(dyn Fn(&str) + Sync)>,
+) -> Result<CurveReport, Failure> {
+    let report = crate::curve::analyse_with_progress(&study.keyed, &study.spec, cancel, progress)
+        .map_err(failure)?;
     if cancel.is_some_and(|c| c()) {
         return Err(compute(anyhow!("curve continuation cancelled")));
     }

@@ -20,11 +20,15 @@
 //! in the $N + 3$ unknowns $(x_0, T, V, p)$, continued by pseudo-arclength in scaled units
 //! (Keller), so that it is followed round turns in the key: where the curve turns in $p$ two
 //! folds meet and vanish, a **cusp** of cycles (CPC), located on the arclength. The borders are
-//! the null vectors of the last accepted point. $∂G/∂p$ and the gradient of $g$ are one-sided
-//! differences (the model is rebuilt at the shifted key value; $g$'s second derivatives of the
-//! flow are not integrated); they only set Newton's rate, not the converged folds, so they are
-//! computed once per corrector (the chord method), each difference an independent
-//! linearisation run on rayon threads.
+//! taken afresh from the null vectors at each corrector's first iterate. $∂G/∂p$ is a one-sided
+//! difference of two plain flows (the model rebuilt at the shifted key value). The gradient
+//! of $g$ is $−w^⊤ (∂A/∂u)\,v$ with $v$, $w$ the bordered system's right and left null
+//! vectors: the first $N$ rows of $Av$ are the derivative of the shooting map in the direction
+//! $(v_x, v_T)$, one tangent of the time-normalised flow, so each component of the gradient is
+//! a one-sided difference of two such tangents, all integrated on one fixed step sequence (so
+//! that the differences are smooth in the unknowns). That is $N + 4$ flows with one tangent
+//! each, on rayon threads, instead of $N + 3$ monodromies: cheap enough to take at every
+//! iterate, so the corrector is Newton's method proper and converges quadratically.
 //!
 //! The key's values of the curve's grid are user points: wherever an accepted step crosses
 //! one, the fold there is solved with the key pinned to it, so that V_NL can be compared across
@@ -46,10 +50,15 @@ use crate::continuation::{
     orbit::Linearised, Floquet, OrbitPoint, SegmentSeed, Shooting, SpecialKind,
 };
 use crate::model::Vehicle;
-use crate::system::ode::{integrate, OdeOptions, VectorField};
+use crate::system::ode::{integrate, step_times, tangent_on_steps, OdeOptions, VectorField};
 
 /// A located "fold" of smaller amplitude (m) is the Hopf point itself: the fold curve has
 /// reached a generalised Hopf point and ends.
+/// The relative step of the differences of the tangents in the state, period and speed: the
+/// tangents are computed on one fixed step sequence, so they are smooth in these unknowns and
+/// the step can be far below the integration tolerance's square root.
+const TANGENT_STEP: f64 = 1e-7;
+
 const MIN_FOLD_AMPLITUDE: f64 = 2e-5;
 
 /// A fold curve that cannot be continued further with a smaller amplitude (m) ends near a
@@ -62,12 +71,12 @@ const NEAR_HOPF_DS: f64 = 0.01;
 /// Accepted points of one direction of a fold curve at most.
 const MAX_POINTS: usize = 400;
 
-/// Newton iterations of one corrector at most (the chord method converges linearly).
+/// Newton iterations of one corrector at most.
 const MAX_ITERATIONS: usize = 12;
 
-/// A chord corrector refreshes its derivatives when an update shrinks by less than this
-/// factor, and fails when it does so again just after a refresh.
-const REFRESH: f64 = 0.3;
+/// A corrector whose update shrinks by less than this factor has stalled: its borders are
+/// taken afresh once, and a second stall in a row fails it.
+const STALL: f64 = 0.3;
 
 /// Updates that stall below this many Newton tolerances are integration noise: the corrector
 /// has converged.
@@ -98,7 +107,12 @@ pub struct FoldTracking<'a> {
     /// `skip(speed m/s, amplitude m)`: a fold of the diagram not to follow (one a curve
     /// already passes through)
     pub skip: &'a (dyn Fn(f64, f64) -> bool + Sync),
+    /// called once per fold curve when it is done, with the curve and its wall time (s)
+    pub done: Option<&'a Done<'a>>,
 }
+
+/// `done(curve, wall time s)`, called as each fold curve is finished (progress).
+pub type Done<'a> = dyn Fn(&FoldTrack, f64) + Sync + 'a;
 
 /// One point of a fold curve.
 #[derive(Clone, Debug, PartialEq)]
@@ -187,21 +201,17 @@ struct Point<const N: usize> {
     extent: f64,
     border: Border,
     seed: SegmentSeed<N>,
-    /// the chord derivatives (∂G/∂p, ∇g) the corrector ended with: the next one starts with
-    /// them
-    derivs: Derivs,
 }
 
-/// ∂G/∂p (N) and ∇g (N + 3).
+/// ∂G/∂p (N) and ∇g (N + 3), the corrector's derivative rows beside the linearisation's.
 type Derivs = (DVector<f64>, DVector<f64>);
 
-/// Where a corrector starts from: the borders, shooting segments, tangent (orientation) and
-/// chord derivatives of a nearby point.
+/// Where a corrector starts from: the borders, shooting segments and tangent (orientation)
+/// of a nearby point.
 struct From<'p, const N: usize> {
     border: &'p Border,
     seed: &'p SegmentSeed<N>,
     tangent: &'p DVector<f64>,
-    derivs: Option<&'p Derivs>,
 }
 
 impl<const N: usize> Point<N> {
@@ -210,7 +220,6 @@ impl<const N: usize> Point<N> {
             border: &self.border,
             seed: &self.seed,
             tangent: &self.tangent,
-            derivs: Some(&self.derivs),
         }
     }
 }
@@ -300,7 +309,23 @@ pub(super) fn follow<const N: usize>(
             .iter()
             .position(|r| std::ptr::eq(r, run))
             .unwrap_or_default();
-        tracks.push(system.curve(id, &orbit, track.first));
+        let started = std::time::Instant::now();
+        // the same fold reached from two branches of the diagram (its estimate there may
+        // differ from the solved fold by more than the test above allows)
+        let known = |speed: f64| {
+            tracks.iter().any(|t| {
+                t.points.iter().any(|p| {
+                    p.parameter == track.first && (p.speed_m_s - speed).abs() <= 1e-7 * speed
+                })
+            }) || (track.skip)(speed, 0.0)
+        };
+        let Some(curve) = system.curve(id, &orbit, track.first, &known) else {
+            continue;
+        };
+        if let Some(done) = track.done {
+            done(&curve, started.elapsed().as_secs_f64());
+        }
+        tracks.push(curve);
     }
     tracks
 }
@@ -474,58 +499,80 @@ impl<const N: usize> FoldSystem<'_, N> {
         Ok(DVector::from_column_slice(d.as_slice()))
     }
 
-    /// The derivative rows the chord corrector keeps: ∂G/∂p (N) and ∇g (N + 3), by one-sided
-    /// differences of linearisations at shifted unknowns (in parallel).
+    /// The fold system's derivative rows beside the shooting linearisation: ∂G/∂p (N) and
+    /// ∇g (N + 3).
+    ///
+    /// ∇g = −wᵀ (∂A/∂u) v (Govaerts), with v and w the right and left null vectors of the
+    /// bordered A. The first N rows of A v are the derivative of the shooting map in the
+    /// direction (v_x, v_T), ξ(1) of the time-normalised flow and its tangent
+    /// ([`tangent_on_steps`]); its derivative in each unknown is a one-sided difference of
+    /// such tangents, all on one step sequence (a plain flow's at `u`), so the differences
+    /// are smooth in the unknowns. N + 4 flows with one tangent each, in parallel, instead of
+    /// N + 3 monodromies (each a flow with N tangents).
     fn differences(
         &self,
         model: &Vehicle,
         u: &DVector<f64>,
-        base: &Linearised<N>,
-        g: f64,
-        (fr, border): (&SVector<f64, N>, &Border),
-        seed: Option<&SegmentSeed<N>>,
+        (v, w): (&DVector<f64>, &DVector<f64>),
     ) -> Result<Derivs, String> {
         let p = Self::p(u);
-        // the key's step: inside the range (the model may be refused outside it)
         let hp = self.eps * self.scale[N + 2].max(p.abs() * 1e-3);
         let hp = if p + hp > self.bounds.1 { -hp } else { hp };
         let shifted = self.model(p + hp)?;
-        // each shifted unknown: the difference of g and, for the key, the column ∂G/∂p
-        type Shifted = Result<(f64, Option<DVector<f64>>), String>;
-        let rows: Vec<Shifted> = (0..N + 3)
-            .into_par_iter()
-            .map(|k| {
-                let h = if k == N + 2 {
-                    hp
-                } else {
-                    self.eps * self.scale[k].max(u[k].abs() * 1e-3)
-                };
-                let mut uk = u.clone();
-                uk[k] += h;
-                let m = if k == N + 2 { &shifted } else { model };
-                let lin = self.linearise(m, &uk, seed)?;
-                let (gk, _, _) = fold_value(&bordered(&lin, fr, border))
-                    .ok_or("the bordered fold matrix is singular")?;
-                let gp = (k == N + 2).then(|| (lin.residual - base.residual).map(|d| d / h));
-                Ok((
-                    (gk - g) / h,
-                    gp.map(|v| DVector::from_column_slice(v.as_slice())),
-                ))
+        let o = orbit_of::<N>(u);
+        let dtau = if self.run.symmetric { 0.5 } else { 1.0 };
+        let opts = OdeOptions {
+            monodromy: false,
+            tol: crate::system::ode::Tolerances {
+                rtol: (self.setup.ode.tol.rtol * 10.0).min(1e-6),
+                ..self.setup.ode.tol
+            },
+            ..self.setup.ode
+        };
+        let horizon = dtau * o.period;
+        let taus: Vec<f64> = step_times(model, o.param, &o.x0, horizon, &opts)
+            .map_err(|e| format!("integration failed: {e}"))?
+            .into_iter()
+            .map(|t| t / horizon)
+            .collect();
+        let vx: SVector<f64, N> = SVector::from_fn(|i, _| v[i]);
+        let d_horizon = dtau * v[N];
+        // the flow's tangent with unknown k shifted by h (k = N + 3: none)
+        let tangent = |k: usize, h: f64| -> Result<SVector<f64, N>, String> {
+            let mut x0 = o.x0;
+            let (mut period, mut speed, mut m) = (o.period, o.param, model);
+            match k {
+                _ if k < N => x0[k] += h,
+                _ if k == N => period += h,
+                _ if k == N + 1 => speed += h,
+                _ if k == N + 2 => m = &shifted,
+                _ => {}
+            }
+            tangent_on_steps(m, speed, &x0, &vx, (dtau * period, d_horizon), &taus)
+                .map(|(_, xi)| xi)
+                .map_err(|e| format!("integration failed: {e}"))
+        };
+        let steps: Vec<f64> = (0..N + 3)
+            .map(|k| match k {
+                _ if k == N + 2 => hp,
+                _ => TANGENT_STEP * self.scale[k].max(u[k].abs() * 1e-3),
             })
             .collect();
-        let mut grad = DVector::zeros(N + 3);
-        let mut gp = DVector::zeros(N);
-        for (k, r) in rows.into_iter().enumerate() {
-            let (d, col) = r?;
-            grad[k] = d;
-            if let Some(col) = col {
-                gp = col;
-            }
-        }
+        let rows: Vec<Result<SVector<f64, N>, String>> = (0..N + 4)
+            .into_par_iter()
+            .map(|k| tangent(k, steps.get(k).copied().unwrap_or(0.0)))
+            .collect();
+        let mut rows = rows.into_iter().collect::<Result<Vec<_>, String>>()?;
+        let base = rows.pop().ok_or("no tangent")?;
+        let wx: SVector<f64, N> = SVector::from_fn(|i, _| w[i]);
+        let grad = DVector::from_fn(N + 3, |k, _| -wx.dot(&(rows[k] - base)) / steps[k]);
+        let gp = self.g_p(model, u)?;
         Ok((gp, grad))
     }
 
-    /// Newton (chord) on the fold system from `zp` with the last row `row`.
+    /// Newton on the fold system from `zp` with the last row `row`; every iterate's
+    /// derivatives are fresh ([`Self::differences`] is a few plain flows' cost), so it
+    /// converges quadratically.
     fn correct(
         &self,
         zp: &DVector<f64>,
@@ -533,9 +580,10 @@ impl<const N: usize> FoldSystem<'_, N> {
         from: &From<'_, N>,
     ) -> Result<Corrected<N>, String> {
         let old_tangent = from.tangent;
-        // the borders change only with the chord's derivatives: g's gradient depends on them
+        // g's borders: set at the first iterate from its null vectors, then kept (g is one
+        // function during a corrector); reset once if Newton stalls
         let mut border = from.border.clone();
-        let seed = Some(from.seed);
+        let mut reset = true;
         let s = &self.scale;
         let mut u = zp.clone();
         if let Row::Pin(q) = row {
@@ -544,57 +592,24 @@ impl<const N: usize> FoldSystem<'_, N> {
         let reference = self.model(Self::p(&u))?;
         let xr: SVector<f64, N> = SVector::from_fn(|i, _| u[i]);
         let fr = reference.rhs(&xr, u[N + 1]);
-        let mut chord: Option<Derivs> = from.derivs.cloned();
-        let mut last_seed = seed.cloned();
+        let mut last_seed = Some(from.seed.clone());
         let mut previous = f64::INFINITY;
-        let mut refreshed = false;
-        // the last update and g before it (Broyden)
-        let mut last_step: Option<(DVector<f64>, f64)> = None;
+        let mut was_reset = false;
         let tol = self.setup.params.newton_tol;
         for it in 1..=MAX_ITERATIONS {
             let model = self.model(Self::p(&u))?;
             let lin = self.linearise(&model, &u, last_seed.as_ref())?;
-            let m = bordered(&lin, &fr, &border);
-            let (mut g, v, w) = fold_value(&m).ok_or("the bordered fold matrix is singular")?;
-            let fresh = chord.is_none();
-            if fresh {
-                // fresh derivatives: first the borders from this point's null vectors
-                if let (Some(b), Some(c)) = (unit(w), unit(v)) {
+            let singular = "the bordered fold matrix is singular";
+            let (mut g, mut v, mut w) =
+                fold_value(&bordered(&lin, &fr, &border)).ok_or(singular)?;
+            if reset {
+                if let (Some(b), Some(c)) = (unit(w.clone()), unit(v.clone())) {
                     border = Border { b, c };
-                    g = fold_value(&bordered(&lin, &fr, &border))
-                        .ok_or("the bordered fold matrix is singular")?
-                        .0;
+                    (g, v, w) = fold_value(&bordered(&lin, &fr, &border)).ok_or(singular)?;
                 }
-                chord = Some(self.differences(
-                    &model,
-                    &u,
-                    &lin,
-                    g,
-                    (&fr, &border),
-                    last_seed.as_ref(),
-                )?);
-            } else if let (Some((_, grad)), Some((d, g0))) = (chord.as_mut(), &last_step) {
-                // Broyden's update of g's row from the last step (scaled): the chord's
-                // gradient was taken at another point, and the secant through the last two
-                // iterates corrects it where Newton moves
-                let dd: f64 = d.iter().zip(s.iter()).map(|(x, sc)| (x / sc).powi(2)).sum();
-                if dd > 0.0 {
-                    let c = ((g - g0) - grad.dot(d)) / dd;
-                    for k in 0..N + 3 {
-                        grad[k] += c * d[k] / (s[k] * s[k]);
-                    }
-                }
+                reset = false;
             }
-            // ∂G/∂p afresh at each iterate (two plain flows): a stale column would make the
-            // corrector converge only linearly
-            if !fresh {
-                if let Some((gp, _)) = chord.as_mut() {
-                    *gp = self.g_p(&model, &u)?;
-                }
-            }
-            let Some((gp, grad)) = chord.clone() else {
-                return Err("no derivatives".into());
-            };
+            let (gp, grad) = self.differences(&model, &u, (&v, &w))?;
             let mut a = DMatrix::zeros(N + 3, N + 3);
             let mut rhs = DVector::zeros(N + 3);
             a.view_mut((0, 0), (N, N + 2)).copy_from(&lin.jacobian);
@@ -633,7 +648,6 @@ impl<const N: usize> FoldSystem<'_, N> {
                 u[N + 2] = q;
                 delta[N + 2] = 0.0;
             }
-            last_step = Some((delta.clone(), g));
             last_seed = Some(lin.seed.clone());
             let size = delta
                 .iter()
@@ -643,17 +657,16 @@ impl<const N: usize> FoldSystem<'_, N> {
             if !size.is_finite() {
                 return Err("Newton diverged".into());
             }
-            // the chord's derivatives are refreshed when an update shrinks too slowly; a
-            // corrector that still does not contract with fresh ones has failed
-            let stalled = it >= 2 && size > REFRESH * previous;
+            // an update that shrinks too slowly: the borders afresh once, then failure
+            let stalled = it >= 2 && size > STALL * previous;
             if stalled && previous > NOISE_FLOOR * tol {
-                if refreshed {
+                if was_reset {
                     return Err(format!("Newton did not contract (update {size:.1e})"));
                 }
-                chord = None;
-                refreshed = true;
+                reset = true;
+                was_reset = true;
             } else {
-                refreshed = false;
+                was_reset = false;
             }
             previous = size;
             // near a generalised Hopf point g's gradient vanishes with the amplitude and the
@@ -688,29 +701,12 @@ impl<const N: usize> FoldSystem<'_, N> {
                         extent,
                         border,
                         seed: lin.seed,
-                        derivs: (gp.clone(), grad.clone()),
                     },
                     iterations: it,
                 });
             }
         }
         Err("Newton reached its iteration limit".into())
-    }
-
-    /// `a` with its chord derivatives and tangent taken afresh at `a` (one corrector from
-    /// `a` itself, keeping the key's direction).
-    fn refresh(&self, a: &Point<N>) -> Result<Point<N>, String> {
-        let from = From {
-            border: &a.border,
-            seed: &a.seed,
-            tangent: &a.tangent,
-            derivs: None,
-        };
-        let row = Row::Arclength {
-            tangent: &a.tangent,
-            zp: &a.u,
-        };
-        self.correct(&a.u, row, &from).map(|c| c.point)
     }
 
     fn predict(&self, u: &DVector<f64>, t: &DVector<f64>, ds: f64) -> DVector<f64> {
@@ -730,7 +726,15 @@ impl<const N: usize> FoldSystem<'_, N> {
     }
 
     /// The whole fold curve through the diagram's fold `orbit` at key value `first`.
-    fn curve(&self, branch: usize, orbit: &OrbitPoint<N>, first: f64) -> FoldTrack {
+    /// The fold curve through the diagram's fold `orbit`, or `None` when the fold, solved as a
+    /// point of the fold system, is one `known(speed)` says a curve already passes through.
+    fn curve(
+        &self,
+        branch: usize,
+        orbit: &OrbitPoint<N>,
+        first: f64,
+        known: &dyn Fn(f64) -> bool,
+    ) -> Option<FoldTrack> {
         let lost = |why: String| FoldTrack {
             branch,
             branch_kind: self.run.kind,
@@ -741,11 +745,14 @@ impl<const N: usize> FoldSystem<'_, N> {
         let start = match self.start(orbit, first) {
             Ok(s) => s,
             Err(e) => {
-                return lost(format!(
+                return Some(lost(format!(
                     "the diagram's fold could not be solved as a fold of the extended system: {e}"
-                ))
+                )))
             }
         };
+        if known(start.u[N + 1]) {
+            return None;
+        }
         let (back, fore) = rayon::join(|| self.side(&start, -1.0), || self.side(&start, 1.0));
         let (mut back_points, back_special, back_stop) = back;
         let (fore_points, fore_special, fore_stop) = fore;
@@ -755,13 +762,13 @@ impl<const N: usize> FoldSystem<'_, N> {
         back_points.extend(fore_points);
         let mut special: Vec<FoldSpecial> = back_special.into_iter().rev().collect();
         special.extend(fore_special);
-        FoldTrack {
+        Some(FoldTrack {
             branch,
             branch_kind: self.run.kind,
             points: back_points,
             special,
             stops: (back_stop, fore_stop),
-        }
+        })
     }
 
     /// The diagram's fold solved as a point of the fold system at `first`, with the curve's
@@ -801,7 +808,6 @@ impl<const N: usize> FoldSystem<'_, N> {
             border: &border,
             seed: &lin.seed,
             tangent: &towards,
-            derivs: None,
         };
         let c = self.correct(&u, Row::Pin(first), &from)?;
         let mut point = c.point;
@@ -832,8 +838,6 @@ impl<const N: usize> FoldSystem<'_, N> {
         let mut ds = DS_INITIAL;
         let mut last_error = String::new();
         let mut iterations = 0;
-        // whether `a`'s derivatives were taken at `a` itself
-        let mut a_fresh = false;
         let cancelled = || self.setup.cancel.is_some_and(|c| c());
         let stop = loop {
             if cancelled() {
@@ -918,15 +922,6 @@ impl<const N: usize> FoldSystem<'_, N> {
                 Ok(c) => c,
                 Err(e) => {
                     last_error = e;
-                    // the chord's derivatives (and so the tangent) may be stale: once per
-                    // point, take them afresh at the point before shortening the step
-                    if !a_fresh {
-                        a_fresh = true;
-                        if let Ok(r) = self.refresh(&a) {
-                            a = r;
-                            continue;
-                        }
-                    }
                     ds *= 0.5;
                     continue;
                 }
@@ -972,10 +967,11 @@ impl<const N: usize> FoldSystem<'_, N> {
             if !on_grid {
                 out.push(self.track_point(&c, false));
             }
-            // step control by the corrector's iterations (the chord converges linearly)
+            // step control by the corrector's iterations (Newton: 3 or 4 at a good step)
             let factor = match iterations {
-                0..=5 => 1.5,
-                6..=8 => 1.0,
+                0..=3 => 1.5,
+                4 => 1.2,
+                5 | 6 => 1.0,
                 _ => 0.6,
             };
             ds = (ds * factor).min(DS_MAX);
@@ -1001,7 +997,6 @@ impl<const N: usize> FoldSystem<'_, N> {
                 None
             };
             a = c;
-            a_fresh = false;
             if let Some(r) = reason {
                 break r;
             }

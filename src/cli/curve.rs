@@ -39,7 +39,8 @@ pub fn run(a: &CurveArgs, root: &Path) -> Result<(), Failure> {
         s.speed_range.1
     );
     let started = std::time::Instant::now();
-    let report = api::curve::curve(&study, None)?;
+    let progress = |line: &str| statusln!("  {line}");
+    let report = api::curve::curve_with_progress(&study, None, Some(&progress))?;
     statusln!(
         "  {} curves, {} points in {:.2} s",
         report.curves.len(),

@@ -71,8 +71,14 @@ pub(super) fn fold_curves(
     study: &KeyedStudy,
     spec: &CurveSpec,
     cancel: Option<&(dyn Fn() -> bool + Sync)>,
+    progress: Option<&(dyn Fn(&str) + Sync)>,
     report: &mut CurveReport,
 ) -> Result<(), CurveError> {
+    let say = |line: &str| {
+        if let Some(p) = progress {
+            p(line)
+        }
+    };
     let grid = values(spec);
     let own = study.own_value();
     // the diagrams: at the study's own value (else `from`), then at `seed_points` values of
@@ -111,13 +117,41 @@ pub(super) fn fold_curves(
                     .any(|p| p.parameter == first && (p.speed_m_s - speed).abs() <= 1e-4 * speed)
             })
         };
+        let done = |t: &FoldTrack, seconds: f64| {
+            let (lo, hi) = t
+                .points
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| {
+                    (a.0.min(p.parameter), a.1.max(p.parameter))
+                });
+            let at = t.points.iter().find(|p| p.parameter == first);
+            say(&format!(
+                "  {} from {}: {} points over {} in [{}, {}] ({seconds:.1} s)",
+                label(t.branch_kind),
+                at.map_or("the diagram".into(), |p| format!(
+                    "{:.3} m/s, {:.3} mm",
+                    p.speed_m_s,
+                    p.amplitude_m * 1e3
+                )),
+                t.points.len(),
+                spec.key,
+                spec.quantity(lo),
+                spec.quantity(hi),
+            ))
+        };
         let track = FoldTracking {
             values: &fore,
             back: &back,
             first,
             model_at: &model_at,
             skip: &skip,
+            done: Some(&done),
         };
+        say(&format!(
+            "diagram at {} and its folds of cycles",
+            spec.show(first)
+        ));
+        let started = std::time::Instant::now();
         let hooks = Hooks {
             progress: None,
             cancel,
@@ -129,6 +163,12 @@ pub(super) fn fold_curves(
                 message,
             })?;
         diagrams += 1;
+        say(&format!(
+            "  diagram at {}: {} new fold curves ({:.1} s with their curves)",
+            spec.show(first),
+            tracks.len(),
+            started.elapsed().as_secs_f64()
+        ));
         report.stats.models_built += fore.len() + back.len() + 1;
         for t in &tracks {
             let index = report.curves.len();
@@ -296,8 +336,8 @@ fn nonlinear_critical_speed(spec: &CurveSpec, values: &[f64], report: &mut Curve
                 });
                 let ends = match cusp {
                     Some(s) => format!(
-                        " (that fold curve turns back at a cusp at {} = {}, {:.3} m/s: the stable cycle it bounds exists only on one side)",
-                        spec.key, s.parameter, s.speed_m_s
+                        " (that fold curve turns back at a cusp at {}, {:.3} m/s: the stable cycle it bounds exists only on one side)",
+                        spec.show(s.parameter), s.speed_m_s
                     ),
                     None => previous_curve
                         .and_then(|i: usize| report.curves.get(i))
@@ -308,16 +348,17 @@ fn nonlinear_critical_speed(spec: &CurveSpec, values: &[f64], report: &mut Curve
                             })?;
                             inside(last.parameter).then(|| {
                                 format!(
-                                    " (that fold curve ends at {} = {}, {:.3} m/s)",
-                                    spec.key, last.parameter, last.speed_m_s
+                                    " (that fold curve ends at {}, {:.3} m/s)",
+                                    spec.show(last.parameter), last.speed_m_s
                                 )
                             })
                         })
                         .unwrap_or_default(),
                 };
                 report.notes.push(format!(
-                    "V_NL changes curve between {} = {pv} and {value}: from {pspeed:.3} m/s on {psource} to {v:.3} m/s on {source}{ends}",
-                    spec.key
+                    "V_NL changes curve between {} and {}: from {pspeed:.3} m/s on {psource} to {v:.3} m/s on {source}{ends}",
+                    spec.show(*pv),
+                    spec.show(value)
                 ));
             }
         }
@@ -326,10 +367,9 @@ fn nonlinear_critical_speed(spec: &CurveSpec, values: &[f64], report: &mut Curve
         previous_curve = best_curve;
     }
     if !unknown.is_empty() {
-        let list: Vec<String> = unknown.iter().map(|v| format!("{v}")).collect();
+        let list: Vec<String> = unknown.iter().map(|&v| spec.show(v)).collect();
         report.notes.push(format!(
-            "V_NL unknown at {} = {}: the lowest Hopf point there is subcritical (or of unknown type) and no fold with a stable side was followed there, so V_NL lies below V_H on a fold this run did not reach",
-            spec.key,
+            "V_NL unknown at {}: the lowest Hopf point there is subcritical (or of unknown type) and no fold with a stable side was followed there, so V_NL lies below V_H on a fold this run did not reach",
             list.join(", ")
         ));
     }
@@ -357,8 +397,8 @@ fn unfollowed_bautin_points(spec: &CurveSpec, first: f64, report: &mut CurveRepo
             });
         if !reached {
             notes.push(format!(
-                "a fold of cycles is born at the generalised Hopf point at {} = {:.6e}, {:.3} m/s, and was not followed: no diagram computed (at {} = {first} and at curve.seed_points values of the fold grid) had it (more seed_points, or a study whose own {} lies there, follows it)",
-                spec.key, s.parameter, s.speed_m_s, spec.key, spec.key
+                "a fold of cycles is born at the generalised Hopf point at {}, {:.3} m/s, and was not followed: no diagram computed (at {} and at curve.seed_points values of the fold grid) had it (more seed_points, or a study whose own {} lies there, follows it)",
+                spec.show(s.parameter), s.speed_m_s, spec.show(first), spec.key
             ));
         }
     }

@@ -30,7 +30,7 @@ pub mod spec;
 mod tests;
 pub mod trace;
 
-pub use run::analyse;
+pub use run::{analyse, analyse_with_progress};
 pub use spec::{resolve, CurveSpec};
 
 use crate::contact::creep::CreepLaw;

@@ -24,6 +24,17 @@ pub fn analyse(
     spec: &CurveSpec,
     cancel: Option<&(dyn Fn() -> bool + Sync)>,
 ) -> Result<CurveReport, CurveError> {
+    analyse_with_progress(study, spec, cancel, None)
+}
+
+/// [`analyse`], calling `progress` with a line of text as each diagram and fold curve is done
+/// (a long run says where it is).
+pub fn analyse_with_progress(
+    study: &KeyedStudy,
+    spec: &CurveSpec,
+    cancel: Option<&(dyn Fn() -> bool + Sync)>,
+    progress: Option<&(dyn Fn(&str) + Sync)>,
+) -> Result<CurveReport, CurveError> {
     let mut report = CurveReport {
         study: study.base.name.clone(),
         key: spec.key.clone(),
@@ -40,8 +51,20 @@ pub fn analyse(
     };
     for kind in &spec.curves {
         match kind {
-            CurveKind::Hopf => hopf_curves(study, spec, cancel, &mut report)?,
-            CurveKind::Fold => super::folds::fold_curves(study, spec, cancel, &mut report)?,
+            CurveKind::Hopf => {
+                let started = std::time::Instant::now();
+                hopf_curves(study, spec, cancel, &mut report)?;
+                if let Some(p) = progress {
+                    p(&format!(
+                        "Hopf curves: {} ({:.2} s)",
+                        report.curves.len(),
+                        started.elapsed().as_secs_f64()
+                    ));
+                }
+            }
+            CurveKind::Fold => {
+                super::folds::fold_curves(study, spec, cancel, progress, &mut report)?
+            }
             other => report.notes.push(format!(
                 "\"{}\" curves are not available yet: nothing was continued for them (the Hopf and fold curves are)",
                 other.name()

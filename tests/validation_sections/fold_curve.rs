@@ -119,8 +119,8 @@ pub fn rows() -> Vec<FoldRow> {
             if (mu - grid).abs() > 1e-9 {
                 return None;
             }
-            // critspeed's curve ends at the study's 12 mm amplitude bound (friction 0.448): the
-            // fold at 0.45 (12.12 mm) lies beyond it and is not compared
+            // critspeed's curve ends at the study's 12 mm amplitude bound (near friction 0.448):
+            // the fold at 0.45 (12.12 mm) is compared when the step crossing the bound passes it
             let ours = fold.iter().find(|p| (p.parameter - grid).abs() < 1e-9)?;
             let auto_speed = meshes
                 .iter()

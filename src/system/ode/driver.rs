@@ -398,3 +398,64 @@ pub fn integrate_sections<const N: usize, F: VectorField<N>>(
     })?;
     Ok(run.sol)
 }
+
+/// As [`integrate`], returning the end times of the accepted steps (the last is `t_end`):
+/// a step sequence for [`tangent_on_steps`].
+pub fn step_times<const N: usize, F: VectorField<N>>(
+    f: &F,
+    p: f64,
+    x0: &SVector<f64, N>,
+    t_end: f64,
+    opts: &OdeOptions,
+) -> Result<Vec<f64>, OdeError> {
+    let mut times = Vec::new();
+    checked(run(f, p, x0, t_end, opts, |_, _, trial| {
+        times.push(trial.end.t);
+        ControlFlow::Continue(())
+    })?)?;
+    Ok(times)
+}
+
+/// The flow and one tangent of the time-normalised system on a fixed step sequence: with
+/// $x(τ)$, $τ ∈ [0, 1]$, $x' = H f(x; p)$ and $ξ' = H J(x)\,ξ + dH\, f(x; p)$ from
+/// $x(0) = x_0$, $ξ(0) = ξ_0$, returns $(x(1), ξ(1))$: $ξ(1)$ is the derivative of the flow
+/// map over the horizon $H$ in the direction $(ξ_0, dH)$ of (initial state, horizon).
+///
+/// `taus` are the step ends in $(0, 1]$, ascending, ending at 1 (e.g. [`step_times`] / H);
+/// each step is one classical 4th-order Runge–Kutta step. Written here rather than taken from
+/// the adaptive integrator because differences of this map at nearby arguments must use
+/// the *same* steps: an error-controlled step sequence changes with the arguments and makes
+/// such differences noisy (the "internal numerical differentiation" of shooting codes).
+pub fn tangent_on_steps<const N: usize, F: VectorField<N>>(
+    f: &F,
+    p: f64,
+    x0: &SVector<f64, N>,
+    xi0: &SVector<f64, N>,
+    (horizon, d_horizon): (f64, f64),
+    taus: &[f64],
+) -> Result<(SVector<f64, N>, SVector<f64, N>), OdeError> {
+    check_interval(horizon)?;
+    let field = |x: &SVector<f64, N>, xi: &SVector<f64, N>| {
+        let (fx, j) = f.rhs_jacobian(x, p);
+        (fx * horizon, (j * xi) * horizon + fx * d_horizon)
+    };
+    let (mut x, mut xi) = (*x0, *xi0);
+    let mut tau = 0.0;
+    for &next in taus {
+        let h = next - tau;
+        if h.is_nan() || h <= 0.0 {
+            continue;
+        }
+        let (k1, l1) = field(&x, &xi);
+        let (k2, l2) = field(&(x + k1 * (0.5 * h)), &(xi + l1 * (0.5 * h)));
+        let (k3, l3) = field(&(x + k2 * (0.5 * h)), &(xi + l2 * (0.5 * h)));
+        let (k4, l4) = field(&(x + k3 * h), &(xi + l3 * h));
+        x += (k1 + (k2 + k3) * 2.0 + k4) * (h / 6.0);
+        xi += (l1 + (l2 + l3) * 2.0 + l4) * (h / 6.0);
+        tau = next;
+        if !(x.sum() + xi.sum()).is_finite() {
+            return Err(OdeError::NonFinite { t: tau * horizon });
+        }
+    }
+    Ok((x, xi))
+}
