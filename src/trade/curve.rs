@@ -6,8 +6,11 @@
 //!   between adjacent curve points, as the curves' stable band; `curve.max_step` keeps them
 //!   dense), "above range" where no curve with a stable side below crosses the value, failed
 //!   where the centred motion is unstable at the bottom of the speed range. V_NL is the
-//!   curves' `nonlinear_critical_speed` points, linearly interpolated between adjacent known
-//!   points of the fold grid (unknown across a grid value where it is unknown). Each sample is
+//!   curves' `nonlinear_critical_speed` points (at the fold grid's key values) and, between
+//!   two adjacent ones, the lowest of the curves they lie on (the fold curve where a stable
+//!   cycle ends, a supercritical stretch of V_H), interpolated between that curve's adjacent
+//!   points; where neither curve has a candidate, linear interpolation between the two V_NL
+//!   points; unknown across a grid value where V_NL is unknown. Each sample is
 //!   a [`Row`], assessed by the grid method's own rules ([`super::select::infeasibility`]).
 //! - **Intervals.** The feasible runs of samples; each end strictly inside the key's range is
 //!   located between its two samples by the Illinois method (bisection where a side has no
@@ -22,7 +25,7 @@
 //!   where a speed equals its bound, so the end itself would test rounding), compared with the
 //!   curves' prediction there.
 
-use crate::curve::{CurveReport, StableSide};
+use crate::curve::{CurveKind, CurveReport, StableSide};
 use crate::study::units::Dimension;
 use crate::sweep::{Computed, PointRecord};
 
@@ -83,6 +86,16 @@ pub enum VnlSource {
     Point,
     /// linear interpolation between V_NL points at key values `a` and `b` (m/s `va`, `vb`)
     Between { a: f64, va: f64, b: f64, vb: f64 },
+    /// between the V_NL points at `a` and `b`, the lowest of the curves V_NL lies on there
+    /// (indices into the report's curves), interpolated between their adjacent points: the
+    /// folds where a stable cycle ends, the supercritical stretches of V_H
+    OnCurves {
+        curves: Vec<usize>,
+        a: f64,
+        va: f64,
+        b: f64,
+        vb: f64,
+    },
     /// not known here, and why
     Unknown(String),
 }
@@ -149,7 +162,7 @@ impl OnCurves<'_> {
             .report
             .curves
             .iter()
-            .filter(|c| c.kind == crate::curve::CurveKind::Hopf && c.label == label)
+            .filter(|c| c.kind == CurveKind::Hopf && c.label == label)
             .flat_map(|c| c.points.windows(2));
         segments
             .filter_map(|w| {
@@ -209,11 +222,79 @@ impl OnCurves<'_> {
             );
             return (None, VnlSource::Unknown(why));
         }
+        let mut curves: Vec<usize> = [(a, va), (b, vb)]
+            .iter()
+            .filter_map(|&(k, v)| self.curve_through(k, v))
+            .collect();
+        curves.dedup();
+        let on = curves
+            .iter()
+            .filter_map(|&i| self.on_curve(i, x))
+            .reduce(f64::min);
+        if let Some(v) = on {
+            return (
+                Some(v),
+                VnlSource::OnCurves {
+                    curves,
+                    a,
+                    va,
+                    b,
+                    vb,
+                },
+            );
+        }
         let t = (p - self.axis.p(a)) / (self.axis.p(b) - self.axis.p(a));
         (
             Some(va + t * (vb - va)),
             VnlSource::Between { a, va, b, vb },
         )
+    }
+
+    /// The curve V_NL = `v` at key value `k` lies on: a fold curve with a stable-side point
+    /// there, or a V_H curve whose supercritical onset is `v` there.
+    fn curve_through(&self, k: f64, v: f64) -> Option<usize> {
+        let close =
+            |a: f64, b: f64| (self.axis.p(a) - self.axis.p(b)).abs() <= 1e-12 * self.axis.span_p();
+        self.report.curves.iter().enumerate().find_map(|(i, c)| {
+            let hit = match c.kind {
+                CurveKind::Fold => c.points.iter().any(|q| {
+                    close(q.parameter, k)
+                        && q.stable_cycle == Some(true)
+                        && (q.speed_m_s - v).abs() <= 1e-7 * v.abs()
+                }),
+                CurveKind::Hopf if c.label == "V_H" => self
+                    .on_curve(i, k)
+                    .is_some_and(|s| (s - v).abs() <= 1e-7 * v.abs()),
+                _ => false,
+            };
+            hit.then_some(i)
+        })
+    }
+
+    /// The lowest V_NL candidate of curve `i` at `x`: on a fold curve, its segments between
+    /// two stable-side folds; on a V_H curve, its segments between two supercritical onsets.
+    fn on_curve(&self, i: usize, x: f64) -> Option<f64> {
+        let c = self.report.curves.get(i)?;
+        let p = self.axis.p(x);
+        let usable = |q: &crate::curve::CurvePoint| match c.kind {
+            CurveKind::Fold => q.stable_cycle == Some(true),
+            _ => {
+                q.stable_side == StableSide::Below
+                    && q.hopf_type == Some(crate::stability::HopfKind::Supercritical)
+            }
+        };
+        c.points
+            .windows(2)
+            .filter(|w| usable(&w[0]) && usable(&w[1]))
+            .filter_map(|w| {
+                let (a, b) = (self.axis.p(w[0].parameter), self.axis.p(w[1].parameter));
+                if !(a.min(b) <= p && p <= a.max(b)) {
+                    return None;
+                }
+                let t = if a != b { (p - a) / (b - a) } else { 0.0 };
+                Some(w[0].speed_m_s + t * (w[1].speed_m_s - w[0].speed_m_s))
+            })
+            .reduce(f64::min)
     }
 
     /// The results the trade reads at `x`, from the curves.

@@ -20,8 +20,10 @@ fn sense_word(s: Sense) -> &'static str {
 
 /// A key value in display units with the unit, e.g. `"412.3 N/mm"`.
 fn key_text(plan: &TradePlan, si: f64) -> String {
-    let (unit, f) = display_unit(plan.objective.dim);
-    format!("{} {unit}", fmt_si(si * f))
+    match display_unit(plan.objective.dim) {
+        ("-", f) => fmt_si(si * f),
+        (unit, f) => format!("{} {unit}", fmt_si(si * f)),
+    }
 }
 
 /// A result of a row in words: `62.7 m/s (225.8 km/h)`, `> 300 m/s (no onset in range)`, `-`.
@@ -205,7 +207,7 @@ fn cell(v: Option<f64>) -> String {
 
 /// `trade.csv` of a curve trade: one row per sample of the key: the key with its SI unit,
 /// the three result columns (empty where not read or not known), `status`,
-/// `stable_up_to_m_s`, `nonlinear_source` (`point`, `interpolated`, `unknown` or empty),
+/// `stable_up_to_m_s`, `nonlinear_source` (`point`, `on curves`, `interpolated`, `unknown` or empty),
 /// `feasible` and `reason`.
 pub fn csv(axis: &KeyAxis, t: &CurveTrade) -> String {
     let col = format!("{}{}", axis.key, crate::sweep::spec::unit_suffix(axis.dim));
@@ -219,6 +221,7 @@ pub fn csv(axis: &KeyAxis, t: &CurveTrade) -> String {
             VnlSource::NotRead => "",
             VnlSource::Point => "point",
             VnlSource::Between { .. } => "interpolated",
+            VnlSource::OnCurves { .. } => "on curves",
             VnlSource::Unknown(_) => "unknown",
         };
         let fields = [

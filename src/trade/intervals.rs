@@ -99,6 +99,15 @@ fn describe_binding(on: &OnCurves, row: &Row, x: f64) -> String {
                 "{}: V_NL by linear interpolation between its points at {} = {a} ({va:.4} m/s) and {b} ({vb:.4} m/s)",
                 c.text, on.axis.key
             ),
+            VnlSource::OnCurves { curves, a, va, b, vb } => {
+                let list: Vec<String> = curves.iter().map(|i| format!("{i}")).collect();
+                format!(
+                    "{}: V_NL along curve {} (linear interpolation between its adjacent points), between the V_NL points at {} = {a} ({va:.4} m/s) and {b} ({vb:.4} m/s)",
+                    c.text,
+                    list.join(" and "),
+                    on.axis.key
+                )
+            }
             VnlSource::Point => format!("{}: at a V_NL point of the curves", c.text),
             _ => format!("{}: V_NL not known past this value", c.text),
         },
@@ -134,12 +143,15 @@ fn end(
     };
     let x = ax.x(p);
     let row = truth(x);
+    // past a sample without a value (a failure, V_NL unknown) the end is where the values stop
+    let set_by = if mb == f64::NEG_INFINITY {
+        "the last key value where every result the trade reads is known (bisection)".to_string()
+    } else {
+        describe_binding(on, &row, x)
+    };
     let mut how = format!(
-        "{}; bracketed by the curve samples at {} = {} and {}",
-        describe_binding(on, &row, x),
-        ax.key,
-        good.0.x,
-        bad.0.x
+        "{set_by}; bracketed by the curve samples at {} = {} and {}",
+        ax.key, good.0.x, bad.0.x
     );
     if !(fg >= 0.0 && fb < 0.0) {
         how += &format!(
