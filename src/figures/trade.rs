@@ -17,6 +17,8 @@ pub fn trade_curve(study: &str, plan: &TradePlan, axis: &KeyAxis, t: &CurveTrade
         "speed (m/s)",
     );
     fig.x_log = axis.log;
+    // the whole axis, so that key values without a known result show as such
+    fig.x_range = Some((axis.range.0 * f, axis.range.1 * f));
     let reads = plan.read_results();
     let mut ys: Vec<f64> = Vec::new();
     let mut lines = Vec::new();
