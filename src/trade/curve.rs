@@ -509,3 +509,7 @@ pub fn fold_grid(spec: &crate::curve::CurveSpec, own: Option<f64>) -> Vec<f64> {
     out.extend(own.filter(|v| (a..=b).contains(v)));
     out
 }
+
+#[cfg(test)]
+#[path = "curve_tests.rs"]
+mod tests;
