@@ -251,3 +251,45 @@ fn bad_methods_are_refused_naming_key_value_and_rule() {
         }
     }
 }
+
+/// The curve trade's V_L and V_H at a key value (the lowest onset on the Hopf curves) are the
+/// curves' own stable band at its sample values, where that band has a finite top below v_max.
+#[test]
+fn the_onset_on_the_curves_is_the_stable_band_top() {
+    use critspeed::api::{curve, Source};
+    use critspeed::trade::curve::{KeyAxis, OnCurves};
+    let src = Source::file(&root().join("studies/seed-stiffness-map.toml")).expect("study");
+    let study = curve::curve_study(&src).expect("[curve]");
+    let r = curve::curve(&study, None).expect("curves");
+    let table: toml::Table =
+        toml::from_str("minimize = \"suspension.lateral_stiffness\"\nmethod = \"curve\"\nconstraints = [ { result = \"hopf_speed\", at_least = 50 } ]")
+            .expect("toml");
+    let plan = critspeed::trade::trade_plan(&table).expect("plan");
+    let axis = KeyAxis {
+        key: KEY.into(),
+        dim: critspeed::study::units::Dimension::Stiffness,
+        range: (1e5, 3e6),
+        log: true,
+    };
+    let on = OnCurves {
+        plan: &plan,
+        axis: &axis,
+        report: &r,
+        vnl_grid: Vec::new(),
+    };
+    let mut checked = 0;
+    for region in &r.stable_regions {
+        for &(x, top) in &region.top {
+            if top.is_finite() && top < r.speed_range.1 {
+                let v = on.onset(region.label, x).expect("an onset");
+                assert!(
+                    (v - top).abs() <= 1e-12 * top,
+                    "{} at {x}: {v} vs {top}",
+                    region.label
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 100, "{checked}");
+}
