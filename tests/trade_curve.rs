@@ -249,6 +249,11 @@ fn bad_methods_are_refused_naming_key_value_and_rule() {
         for w in words {
             assert!(err.contains(w), "{w:?} not in {err}");
         }
+        // `critspeed check` refuses it the same way
+        let out = critspeed(&["check", dir.join(STUDY).to_str().expect("utf-8")], &dir);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains(words[0]), "{err}");
     }
 }
 

@@ -13,19 +13,11 @@ use super::Failure;
 use crate::curve::keyed::KeyedStudy;
 use crate::curve::{CurveError, CurveKind, CurveReport};
 use crate::study::schema::{CurveSection, Quantity, StudyFile};
-use crate::study::{Plan, StudyError};
-use crate::sweep::{Compute, Spacing, Spares, SweepStudy};
+use crate::study::Plan;
+use crate::sweep::{Compute, Spares, SweepStudy};
 use crate::trade::curve::{fold_grid, KeyAxis, OnCurves};
 use crate::trade::intervals::{self, PointAt};
-use crate::trade::{curve_report, ResultKind, Target, TradePlan};
-
-fn rule(key: &str, value: impl std::fmt::Display, rule: impl std::fmt::Display) -> Failure {
-    user(StudyError::Rule {
-        key: key.into(),
-        value: value.to_string(),
-        rule: rule.to_string(),
-    })
-}
+use crate::trade::{curve_report, ResultKind, TradePlan};
 
 fn curve_failure(e: CurveError) -> Failure {
     if e.is_user_error() {
@@ -33,69 +25,6 @@ fn curve_failure(e: CurveError) -> Failure {
     } else {
         compute(e)
     }
-}
-
-/// The sweep's one axis, checked against the trade: one axis, the objective and every axis
-/// constraint on its key.
-pub(super) fn key_axis(study: &SweepStudy, tp: &TradePlan) -> Result<KeyAxis, Failure> {
-    let axes = &study.spec.axes;
-    let [axis] = axes.as_slice() else {
-        let keys: Vec<&str> = axes.iter().map(|a| a.key.as_str()).collect();
-        return Err(rule(
-            "trade.method",
-            "\"curve\"",
-            format!(
-                "needs a [sweep] with exactly one axis (the curves' key); this one has {}: {}",
-                axes.len(),
-                keys.join(", ")
-            ),
-        ));
-    };
-    if tp.objective.key != axis.key {
-        let which = match tp.objective.sense {
-            crate::trade::Sense::Minimize => "trade.minimize",
-            crate::trade::Sense::Maximize => "trade.maximize",
-        };
-        return Err(rule(
-            which,
-            format!("{:?}", tp.objective.key),
-            format!(
-                "with method = \"curve\" the objective must be the sweep's axis key {:?}",
-                axis.key
-            ),
-        ));
-    }
-    for (i, c) in tp.constraints.iter().enumerate() {
-        if let Target::Axis { key, .. } = &c.target {
-            if *key != axis.key {
-                return Err(rule(
-                    &format!("trade.constraints[{i}].axis"),
-                    format!("{key:?}"),
-                    format!(
-                        "with method = \"curve\" an axis constraint must be on the sweep's axis key {:?}",
-                        axis.key
-                    ),
-                ));
-            }
-        }
-    }
-    let (a, b) = match (axis.values.first(), axis.values.last()) {
-        (Some(a), Some(b)) => (*a, *b),
-        _ => return Err(rule("sweep.axes[0]", "[]", "has no values")),
-    };
-    if a == b {
-        return Err(rule(
-            "sweep.axes[0].count",
-            axis.values.len(),
-            "with method = \"curve\" the axis needs a range (from ≠ to, count ≥ 2)",
-        ));
-    }
-    Ok(KeyAxis {
-        key: axis.key.clone(),
-        dim: axis.dim,
-        range: (a.min(b), a.max(b)),
-        log: axis.spacing == Spacing::Log,
-    })
 }
 
 /// The `[curve]` section to run: the study's own (its other settings) with the key, range,
@@ -174,7 +103,7 @@ pub(super) fn run(
         )));
     }
     let study = SweepStudy::load(&a.study).map_err(crate::api::sweep_failure)?;
-    let axis = key_axis(&study, tp)?;
+    let axis = crate::trade::curve::key_axis(&study.spec, tp).map_err(user)?;
     let t0 = Instant::now();
     let (_keyed, report, vnl_grid) = curves(&a.study, file, &axis, tp)?;
     statusln!(

@@ -27,9 +27,10 @@
 
 use crate::curve::{CurveKind, CurveReport, StableSide};
 use crate::study::units::Dimension;
-use crate::sweep::{Computed, PointRecord};
+use crate::study::StudyError;
+use crate::sweep::{Computed, PointRecord, Spacing, SweepSpec};
 
-use super::select::infeasibility;
+pub use super::margin::{binding, locate, margin};
 use super::table::Row;
 use super::{ResultKind, Sense, Target, TradePlan};
 
@@ -377,116 +378,6 @@ impl OnCurves<'_> {
     }
 }
 
-/// The smallest relative margin of the constraints on `row` (≥ 0 iff feasible): at_least X
-/// gives (V − X)/|X|, at_most X gives (X − V)/|X|; a result above range counts as v_max
-/// (and fails every at_most); −∞ when a value the trade reads is missing or failed.
-pub fn margin(plan: &TradePlan, row: &Row) -> f64 {
-    if infeasibility(plan, row).is_none() {
-        // feasible: the margin is ≥ 0 by the same rules
-        return raw_margin(plan, row).max(0.0);
-    }
-    let m = raw_margin(plan, row);
-    if m < 0.0 {
-        m
-    } else {
-        // infeasible for want of a value (a failure), not by a bound
-        f64::NEG_INFINITY
-    }
-}
-
-fn raw_margin(plan: &TradePlan, row: &Row) -> f64 {
-    let mut m = f64::INFINITY;
-    for c in &plan.constraints {
-        let v = match &c.target {
-            Target::Result(r) => match (row.result(*r), row.above_range(*r)) {
-                (Some(v), _) => Some(v),
-                (None, Some(top)) => {
-                    if c.at_most.is_some() {
-                        return -1.0;
-                    }
-                    Some(top)
-                }
-                (None, None) => None,
-            },
-            Target::Axis { key, .. } => row.axis(key),
-        };
-        let Some(v) = v else {
-            return f64::NEG_INFINITY;
-        };
-        let rel = |d: f64, b: f64| d / b.abs().max(f64::MIN_POSITIVE);
-        if let Some(lo) = c.at_least {
-            m = m.min(rel(v - lo, lo));
-        }
-        if let Some(hi) = c.at_most {
-            m = m.min(rel(hi - v, hi));
-        }
-    }
-    m
-}
-
-/// The constraint whose margin is smallest at `row` (the one an end is set by).
-pub fn binding(plan: &TradePlan, row: &Row) -> Option<usize> {
-    let single = |c: &super::Constraint| {
-        let p = TradePlan {
-            constraints: vec![c.clone()],
-            ..plan.clone()
-        };
-        raw_margin(&p, row).abs()
-    };
-    (0..plan.constraints.len())
-        .min_by(|&a, &b| single(&plan.constraints[a]).total_cmp(&single(&plan.constraints[b])))
-}
-
-/// The Illinois method on `f` (≥ 0: feasible) between axis coordinates `good` (f ≥ 0) and
-/// `bad` (f < 0), bisecting where a side's value is not finite; returns the feasible side of
-/// the last bracket, within `tol` of the end, and the number of evaluations.
-pub fn locate(f: &dyn Fn(f64) -> f64, good: (f64, f64), bad: (f64, f64), tol: f64) -> (f64, usize) {
-    let ((mut a, mut fa), (mut b, mut fb)) = (good, bad);
-    // which side the previous step replaced (true: the feasible one)
-    let mut last_good: Option<bool> = None;
-    let mut n = 0;
-    while (b - a).abs() > tol && n < 200 {
-        let secant = fa.is_finite() && fb.is_finite() && fa != fb;
-        let mut x = if secant {
-            (a * fb - b * fa) / (fb - fa)
-        } else {
-            0.5 * (a + b)
-        };
-        if !(x > a.min(b) && x < a.max(b)) {
-            x = 0.5 * (a + b);
-        }
-        let fx = f(x);
-        n += 1;
-        let good_side = fx >= 0.0;
-        // Illinois: the side kept twice has its value halved
-        if last_good == Some(good_side) {
-            if good_side {
-                fb *= 0.5;
-            } else {
-                fa *= 0.5;
-            }
-        }
-        if good_side {
-            (a, fa) = (x, fx);
-        } else {
-            (b, fb) = (x, fx);
-        }
-        last_good = Some(good_side);
-        if fx == 0.0 {
-            break;
-        }
-    }
-    (a, n)
-}
-
-/// Whether objective value `a` is better than `b`.
-pub fn better(sense: Sense, a: f64, b: f64) -> bool {
-    match sense {
-        Sense::Minimize => a < b,
-        Sense::Maximize => a > b,
-    }
-}
-
 /// The key values where the curves give V_NL: `fold_points` values evenly spaced on the key's
 /// axis, the ends as written (the fold grid of [`crate::curve`]), and the study's own value
 /// when it lies in the range.
@@ -510,6 +401,73 @@ pub fn fold_grid(spec: &crate::curve::CurveSpec, own: Option<f64>) -> Vec<f64> {
     out
 }
 
-#[cfg(test)]
-#[path = "curve_tests.rs"]
-mod tests;
+/// The sweep's one axis, checked against a curve trade: one axis with a range, the objective
+/// and every axis constraint on its key. Errors name key, value and rule.
+pub fn key_axis(spec: &SweepSpec, tp: &TradePlan) -> Result<KeyAxis, StudyError> {
+    let axes = &spec.axes;
+    let [axis] = axes.as_slice() else {
+        let keys: Vec<&str> = axes.iter().map(|a| a.key.as_str()).collect();
+        return Err(rule(
+            "trade.method",
+            "\"curve\"",
+            format!(
+                "needs a [sweep] with exactly one axis (the curves' key); this one has {}: {}",
+                axes.len(),
+                keys.join(", ")
+            ),
+        ));
+    };
+    if tp.objective.key != axis.key {
+        let which = match tp.objective.sense {
+            Sense::Minimize => "trade.minimize",
+            Sense::Maximize => "trade.maximize",
+        };
+        return Err(rule(
+            which,
+            format!("{:?}", tp.objective.key),
+            format!(
+                "with method = \"curve\" the objective must be the sweep's axis key {:?}",
+                axis.key
+            ),
+        ));
+    }
+    for (i, c) in tp.constraints.iter().enumerate() {
+        if let Target::Axis { key, .. } = &c.target {
+            if *key != axis.key {
+                return Err(rule(
+                    &format!("trade.constraints[{i}].axis"),
+                    format!("{key:?}"),
+                    format!(
+                        "with method = \"curve\" an axis constraint must be on the sweep's axis key {:?}",
+                        axis.key
+                    ),
+                ));
+            }
+        }
+    }
+    let (a, b) = match (axis.values.first(), axis.values.last()) {
+        (Some(a), Some(b)) => (*a, *b),
+        _ => return Err(rule("sweep.axes[0]", "[]", "has no values")),
+    };
+    if a == b {
+        return Err(rule(
+            "sweep.axes[0].count",
+            axis.values.len(),
+            "with method = \"curve\" the axis needs a range (from ≠ to, count ≥ 2)",
+        ));
+    }
+    Ok(KeyAxis {
+        key: axis.key.clone(),
+        dim: axis.dim,
+        range: (a.min(b), a.max(b)),
+        log: axis.spacing == Spacing::Log,
+    })
+}
+
+fn rule(key: &str, value: impl std::fmt::Display, rule: impl std::fmt::Display) -> StudyError {
+    StudyError::Rule {
+        key: key.into(),
+        value: value.to_string(),
+        rule: rule.to_string(),
+    }
+}

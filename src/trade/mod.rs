@@ -31,6 +31,7 @@
 pub mod curve;
 pub mod curve_report;
 pub mod intervals;
+pub mod margin;
 pub mod plan;
 pub mod report;
 pub mod select;

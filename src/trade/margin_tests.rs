@@ -1,5 +1,6 @@
 use super::*;
-use crate::trade::{Constraint, Method, Objective};
+use crate::study::units::Dimension;
+use crate::trade::{Constraint, Method, Objective, ResultKind, Sense};
 
 fn plan(at_least: Option<f64>, at_most: Option<f64>) -> TradePlan {
     TradePlan {
