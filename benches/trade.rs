@@ -64,6 +64,7 @@ fn trade() -> (TradePlan, Vec<Row>) {
             text: String::new(),
         }],
         pareto: ResultKind::NonlinearCriticalSpeed,
+        method: critspeed::trade::Method::Grid,
     };
     (plan, rows)
 }

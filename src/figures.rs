@@ -2,9 +2,11 @@
 
 mod curve;
 mod sweep;
+mod trade;
 
 pub use curve::curve;
-pub use sweep::{sweep, sweep_map, HeatMap};
+pub use sweep::{sweep, sweep_map, sweep_with_curves, HeatMap};
+pub use trade::trade_curve;
 
 use crate::analysis::{GeometryReport, LinearReport};
 use crate::plot::{render_grid, render_svg, Figure, Marker, PlotError, Series, Style};

@@ -5,7 +5,9 @@ use anyhow::anyhow;
 use super::files::Output;
 use super::{compute, user, Cancel, Failure, Kind, Source};
 use crate::curve::keyed::KeyedStudy;
-use crate::curve::{CurveError, CurveReport, CurveSpec};
+use crate::curve::{CurveError, CurveKind, CurveReport, CurveSpec};
+use crate::study::schema::{CurveSection, Quantity};
+use crate::sweep::{Spacing, SweepStudy};
 
 /// The column types of `curve.csv` (numbers but these; `stable_cycle` is empty on Hopf curves).
 pub const CURVE: &[(&str, Kind)] = &[
@@ -79,4 +81,52 @@ pub fn files(r: &CurveReport) -> Result<Output, Failure> {
         .text("curve.json", json)
         .text("curve.csv", crate::output::curve_csv(r))
         .figure(crate::figures::curve(r), "curve.json and curve.csv"))
+}
+
+/// The curves a one-axis sweep's figure draws on top of its points: when the study's
+/// `[curve]` section has the sweep's axis key, the section continued over the sweep's range
+/// and spacing, with its `curves` when it names them and else only `"hopf"` (the folds cost
+/// whole diagrams: drawn only when asked for). `None` for a two-axis sweep, a single-value
+/// axis or another key; a failure is not the sweep's: it becomes the returned warning and
+/// nothing is drawn.
+pub fn sweep_curves(study: &SweepStudy) -> (Option<CurveReport>, Vec<String>) {
+    let (Some(section), [axis]) = (&study.curve, study.spec.axes.as_slice()) else {
+        return (None, Vec::new());
+    };
+    let (Some(&from), Some(&to)) = (axis.values.first(), axis.values.last()) else {
+        return (None, Vec::new());
+    };
+    if section.key != axis.key || from == to {
+        return (None, Vec::new());
+    }
+    let section = CurveSection {
+        from: Quantity::Number(from),
+        to: Quantity::Number(to),
+        spacing: Some(match axis.spacing {
+            Spacing::Log => "log".into(),
+            Spacing::Linear => "linear".into(),
+        }),
+        curves: Some(
+            section
+                .curves
+                .clone()
+                .unwrap_or_else(|| vec![CurveKind::Hopf.name().into()]),
+        ),
+        ..section.clone()
+    };
+    let (text, origin, folder) = study.source();
+    let report = KeyedStudy::new(text, origin, folder, &axis.key).and_then(|keyed| {
+        let spec = crate::curve::resolve(&section, &keyed)?;
+        crate::curve::analyse(&keyed, &spec, None)
+    });
+    match report {
+        Ok(r) => (Some(r), Vec::new()),
+        Err(e) => (
+            None,
+            vec![format!(
+                "the [curve] section's curves over {} are not drawn on the sweep's figure: {e}",
+                axis.key
+            )],
+        ),
+    }
 }

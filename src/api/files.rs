@@ -113,14 +113,18 @@ pub fn geometry(g: &GeometryReport) -> Output {
         .figure(figures::geometry(g), "geometry.csv")
 }
 
-/// `sweep.csv` and the sweep's figures.
+/// `sweep.csv` and the sweep's figures; a one-axis sweep's figure with the curves of the
+/// study's `[curve]` section when its key is the axis' ([`super::curve::sweep_curves`]).
 pub fn sweep(study: &SweepStudy, rows: &[PointRecord]) -> Output {
-    Output::default()
+    let (curves, warnings) = super::curve::sweep_curves(study);
+    let mut out = Output::default()
         .text("sweep.csv", crate::sweep::sweep_csv(&study.spec.axes, rows))
         .figures(
-            figures::sweep(&study.base.name, &study.spec, rows),
+            figures::sweep_with_curves(&study.base.name, &study.spec, rows, curves.as_ref()),
             "sweep.csv",
-        )
+        );
+    out.warnings.extend(warnings);
+    out
 }
 
 /// The text of `conicity.csv`.

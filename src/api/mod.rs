@@ -391,7 +391,17 @@ pub fn check(source: &Source) -> Result<Checked, Failure> {
         None => None,
     };
     if let Some(t) = &file.trade {
-        crate::trade::trade_plan(t).map_err(user)?;
+        let tp = crate::trade::trade_plan(t).map_err(user)?;
+        if tp.method == crate::trade::Method::Curve {
+            let spec = sweep.as_ref().map(|s| &s.spec).ok_or_else(|| {
+                user(crate::study::StudyError::Rule {
+                    key: "trade.method".into(),
+                    value: "\"curve\"".into(),
+                    rule: "needs a [sweep] with exactly one axis (the curves' key); the study has none".into(),
+                })
+            })?;
+            crate::trade::curve::key_axis(spec, &tp).map_err(user)?;
+        }
     }
     if file.curve.is_some() {
         curve::curve_study(source)?;

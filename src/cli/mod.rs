@@ -17,6 +17,7 @@ mod ramp;
 mod sweep;
 mod table;
 mod trade;
+mod trade_curve;
 
 use std::path::PathBuf;
 use std::process::ExitCode;

@@ -27,22 +27,25 @@ pub struct TradeArgs {
     pub threads: Option<usize>,
 }
 
-/// The `[trade]` table of the study file, validated.
-fn trade_plan(path: &Path) -> Result<trade::TradePlan, Failure> {
+/// The `[trade]` table of the study file, validated, with the file.
+fn trade_plan(path: &Path) -> Result<(trade::TradePlan, StudyFile), Failure> {
     let (_, file) = study_file(path)?;
-    let table = file.trade.ok_or_else(|| {
+    let table = file.trade.clone().ok_or_else(|| {
         user(anyhow!(
             "study {} has no [trade] section (see docs/sweeps.md, \"Trade studies\")",
             path.display()
         ))
     })?;
-    trade::trade_plan(&table).map_err(user)
+    Ok((trade::trade_plan(&table).map_err(user)?, file))
 }
 
 /// Runs the trade: reads the sweep's CSV, writes trade.csv and trade.svg, prints the summary.
 pub fn run(a: &TradeArgs, root: &Path) -> Result<(), Failure> {
     let plan = load(&a.study)?;
-    let tp = trade_plan(&a.study)?;
+    let (tp, file) = trade_plan(&a.study)?;
+    if tp.method == trade::Method::Curve {
+        return super::trade_curve::run(a, root, &plan, &file, &tp);
+    }
     if !a.from_csv {
         // Runs the sweep, or resumes it: points already in its records file are not recomputed.
         let args = super::sweep::SweepArgs {

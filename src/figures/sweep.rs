@@ -4,6 +4,7 @@
 //! at the top of the range on the line plot, a cell beyond the top of the colour bar on a map.
 
 use super::{figure, line, render, Rendered};
+use crate::curve::CurveReport;
 use crate::plot::{AboveRange, Figure, Marker, PlotError, Series, Style};
 use crate::sweep::{Axis, Computed, Outcome, PointRecord, SweepSpec};
 
@@ -46,6 +47,20 @@ fn picks(spec: &SweepSpec) -> Vec<Pick> {
 /// `sweep.svg` for one axis; one `sweep_map_<result>.svg` per result for two axes. `rows`
 /// need not be complete: absent points are drawn as failed.
 pub fn sweep(study: &str, spec: &SweepSpec, rows: &[PointRecord]) -> Vec<Rendered> {
+    sweep_with_curves(study, spec, rows, None)
+}
+
+/// As [`sweep`], with `curves` over the axis key drawn on `sweep.svg` as dashed lines on top
+/// of the points (in the colour of the same result): V_L(curve) and V_H(curve), the lowest
+/// onset on the Kalker and creep-law Hopf curves (the critical speed the curves give, broken
+/// where there is none in the speed range), and V_NL(curve), the curves' V_NL points. A map
+/// (two varying axes) draws no curves: they are one slice of it, at the other key's own value.
+pub fn sweep_with_curves(
+    study: &str,
+    spec: &SweepSpec,
+    rows: &[PointRecord],
+    curves: Option<&CurveReport>,
+) -> Vec<Rendered> {
     let mut by_id: Vec<Option<&PointRecord>> = vec![None; spec.len()];
     for r in rows {
         if let Some(slot) = by_id.get_mut(r.id) {
@@ -71,7 +86,10 @@ pub fn sweep(study: &str, spec: &SweepSpec, rows: &[PointRecord]) -> Vec<Rendere
         _ => None,
     };
     if let Some(a) = line_axis {
-        let f = line_plot(study, spec, a, &by_id, threshold);
+        let mut f = line_plot(study, spec, a, &by_id, threshold);
+        if let Some(r) = curves.filter(|r| r.key == a.key && spec.axes.len() == 1) {
+            draw_curves(&mut f, spec, r);
+        }
         return vec![render("sweep.svg", &f, 900, 600)];
     }
     picks(spec)
@@ -167,6 +185,59 @@ fn line_plot(
         f.hlines.push(Marker { at: v, label });
     }
     f
+}
+
+/// The curves' critical speeds on the line plot, each in the colour of the grid's line of the
+/// same result (the grid's lines take the palette's colours in [`picks`] order), widening the
+/// speed range to hold them.
+fn draw_curves(f: &mut Figure, spec: &SweepSpec, r: &CurveReport) {
+    let c = spec.compute;
+    let colour = |which: usize| {
+        let on = [c.kalker, c.hopf, c.nonlinear];
+        on[..which].iter().filter(|x| **x).count()
+    };
+    let mut added: Vec<Series> = Vec::new();
+    for region in &r.stable_regions {
+        // the creep law's own Hopf speed; Kalker's is V_L (a study on Kalker's law has only it)
+        let (name, which) = match region.label {
+            "V_L" => ("V_L(curve): lowest onset on the Kalker Hopf curves", 0),
+            _ => ("V_H(curve): lowest onset on the creep law's Hopf curves", 1),
+        };
+        let top = r.speed_range.1;
+        let pts: Vec<(f64, f64)> = region
+            .top
+            .iter()
+            .map(|&(x, v)| (x, if v < top { v } else { f64::NAN }))
+            .collect();
+        if pts.iter().any(|p| p.1.is_finite()) {
+            added.push(Series {
+                name: name.into(),
+                points: pts,
+                style: Style::LineIn {
+                    dashed: true,
+                    colour: colour(which),
+                },
+            });
+        }
+    }
+    if !r.nonlinear_critical_speed.is_empty() {
+        added.push(Series {
+            name: "V_NL(curve): the curves' V_NL points".into(),
+            points: r.nonlinear_critical_speed.clone(),
+            style: Style::PointsIn {
+                colour: colour(2),
+                crosses: false,
+            },
+        });
+    }
+    let ys = added.iter().flat_map(|s| s.points.iter().map(|p| p.1));
+    if let Some((lo, hi)) = f.y_range {
+        let (l, h) = ys
+            .filter(|y| y.is_finite())
+            .fold((lo, hi), |(l, h), y| (l.min(y), h.max(y)));
+        f.y_range = Some((l, h));
+    }
+    f.series.extend(added);
 }
 
 /// The map of one result over two axes: each cell is its point's value, `None` where the

@@ -18,10 +18,16 @@ pub struct SweepStudy {
     pub spec: SweepSpec,
     /// hash of the normalised plan and sweep definition (16 hex digits)
     pub fingerprint: String,
+    /// the study's `[curve]` section, when it has one (the sweep's figure draws its curves
+    /// when its key is the sweep's one axis)
+    pub curve: Option<crate::study::schema::CurveSection>,
     table: toml::Table,
     base_model: Vehicle,
     /// folder that relative paths in the study are taken from
     folder: Option<std::path::PathBuf>,
+    /// the study file's text and its name in messages
+    text: String,
+    origin: String,
 }
 
 /// Sets a dotted key in a TOML table, creating sub-tables as needed.
@@ -132,12 +138,21 @@ impl SweepStudy {
             base,
             spec,
             fingerprint,
+            curve: file.curve,
             table,
             base_model,
             folder: folder.map(std::path::Path::to_path_buf),
+            text: text.to_string(),
+            origin: origin.to_string(),
         };
         s.check_axis_values()?;
         Ok(s)
+    }
+
+    /// The study file's text, its name in messages and the folder its relative paths are
+    /// taken from.
+    pub fn source(&self) -> (&str, &str, Option<&std::path::Path>) {
+        (&self.text, &self.origin, self.folder.as_deref())
     }
 
     /// Every value of each axis alone must give a valid study (names the key otherwise).

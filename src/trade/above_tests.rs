@@ -38,6 +38,7 @@ fn plan(at_least: Option<f64>, at_most: Option<f64>) -> TradePlan {
             text: String::new(),
         }],
         pareto: ResultKind::NonlinearCriticalSpeed,
+        method: crate::trade::Method::Grid,
     }
 }
 

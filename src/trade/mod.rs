@@ -28,6 +28,10 @@
 //!   (`maximize`) objective; ties (relative difference ≤ 1e-12) go to the higher capped *V*,
 //!   then to the earlier row.
 
+pub mod curve;
+pub mod curve_report;
+pub mod intervals;
+pub mod margin;
 pub mod plan;
 pub mod report;
 pub mod select;
@@ -126,6 +130,26 @@ pub struct Constraint {
     pub text: String,
 }
 
+/// How the trade is computed (`[trade] method`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// over the sweep's grid points (`sweep.csv`): the default
+    Grid,
+    /// on the critical speeds continued as curves over the sweep's one key
+    /// ([`crate::curve`]): the feasible set as intervals of the key ([`curve`])
+    Curve,
+}
+
+impl Method {
+    /// `"grid"` or `"curve"`, as in study files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Grid => "grid",
+            Method::Curve => "curve",
+        }
+    }
+}
+
 /// A validated `[trade]` section.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TradePlan {
@@ -135,6 +159,25 @@ pub struct TradePlan {
     pub constraints: Vec<Constraint>,
     /// the result plotted against the objective and used for the Pareto front
     pub pareto: ResultKind,
+    /// over the grid (default) or on curves
+    pub method: Method,
+}
+
+impl TradePlan {
+    /// The results the trade reads: the constrained ones and the Pareto speed, each once, in
+    /// [`ResultKind::ALL`] order.
+    pub fn read_results(&self) -> Vec<ResultKind> {
+        ResultKind::ALL
+            .into_iter()
+            .filter(|r| {
+                *r == self.pareto
+                    || self
+                        .constraints
+                        .iter()
+                        .any(|c| c.target == Target::Result(*r))
+            })
+            .collect()
+    }
 }
 
 /// A problem with the sweep table or its fit to the trade plan.

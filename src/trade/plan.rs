@@ -13,15 +13,17 @@
 //! `nonlinear_critical_speed`; bounds are speeds) or one swept `axis` key (bounds in that key's
 //! units), and at least one of `at_least` / `at_most` (a number in SI or a string with a unit).
 //! The optional `factor` (> 0, default 1) multiplies both bounds: "1.1 × the line speed".
+//! `method = "grid"` (default: over the sweep's points) or `"curve"` (on curves over a
+//! one-axis sweep's key, [`super::curve`]).
 
 use toml::{Table, Value};
 
-use super::{axis_dimension, Constraint, Objective, ResultKind, Sense, Target, TradePlan};
+use super::{axis_dimension, Constraint, Method, Objective, ResultKind, Sense, Target, TradePlan};
 use crate::study::units::{parse_quantity, Dimension};
 use crate::study::StudyError;
 
 /// The keys of a `[trade]` table.
-pub const TRADE_KEYS: &[&str] = &["minimize", "maximize", "constraints", "pareto"];
+pub const TRADE_KEYS: &[&str] = &["minimize", "maximize", "constraints", "pareto", "method"];
 /// The keys of one of its `constraints`.
 pub const CONSTRAINT_KEYS: &[&str] = &["result", "axis", "at_least", "at_most", "factor"];
 
@@ -255,10 +257,22 @@ pub fn trade_plan(t: &Table) -> Result<TradePlan, StudyError> {
         })?,
         None => first_result.unwrap_or(ResultKind::NonlinearCriticalSpeed),
     };
+    let method = match string(t, "method", "trade.method")? {
+        None | Some("grid") => Method::Grid,
+        Some("curve") => Method::Curve,
+        Some(other) => {
+            return Err(StudyError::Choice {
+                key: "trade.method".into(),
+                value: other.to_string(),
+                allowed: "\"grid\" (the sweep's points, the default), \"curve\" (a one-axis sweep's key on curves)",
+            })
+        }
+    };
     Ok(TradePlan {
         objective,
         constraints,
         pareto,
+        method,
     })
 }
 

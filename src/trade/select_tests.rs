@@ -30,6 +30,7 @@ fn plan(sense: Sense, at_least: f64) -> TradePlan {
             text: String::new(),
         }],
         pareto: ResultKind::NonlinearCriticalSpeed,
+        method: crate::trade::Method::Grid,
     }
 }
 

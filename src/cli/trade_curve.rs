@@ -1,0 +1,154 @@
+//! `critspeed trade STUDY` with `[trade] method = "curve"`: the trade on curves over the
+//! sweep's one key ([`crate::trade::curve`]).
+
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::anyhow;
+
+use super::commands::{compute, out_dir, user, write, write_figure};
+use super::console::{results, statusln};
+use super::trade::TradeArgs;
+use super::Failure;
+use crate::curve::keyed::KeyedStudy;
+use crate::curve::{CurveError, CurveKind, CurveReport};
+use crate::study::schema::{CurveSection, Quantity, StudyFile};
+use crate::study::Plan;
+use crate::sweep::{Compute, Spares, SweepStudy};
+use crate::trade::curve::{fold_grid, KeyAxis, OnCurves};
+use crate::trade::intervals::{self, PointAt};
+use crate::trade::{curve_report, ResultKind, TradePlan};
+
+fn curve_failure(e: CurveError) -> Failure {
+    if e.is_user_error() {
+        user(e)
+    } else {
+        compute(e)
+    }
+}
+
+/// The `[curve]` section to run: the study's own (its other settings) with the key, range,
+/// spacing and curves of the trade; the speed range is the study's linear one, as a sweep
+/// point's.
+fn section(file: &StudyFile, axis: &KeyAxis, tp: &TradePlan) -> CurveSection {
+    let reads = tp.read_results();
+    let mut curves = vec![CurveKind::Hopf.name().to_string()];
+    if reads.contains(&ResultKind::NonlinearCriticalSpeed) {
+        // V_NL comes from the folds and the supercritical parts of the V_H curves
+        curves.push(CurveKind::Fold.name().to_string());
+    }
+    let own = file.curve.clone();
+    CurveSection {
+        key: axis.key.clone(),
+        from: Quantity::Number(axis.range.0),
+        to: Quantity::Number(axis.range.1),
+        spacing: Some(if axis.log { "log" } else { "linear" }.into()),
+        curves: Some(curves),
+        speed_range: None,
+        max_points: own.as_ref().and_then(|c| c.max_points),
+        max_step: own.as_ref().and_then(|c| c.max_step),
+        seed_points: own.as_ref().and_then(|c| c.seed_points),
+        fold_points: own.as_ref().and_then(|c| c.fold_points),
+    }
+}
+
+/// The results `tp` reads at key value `x`, by the sweep's one-point computation (V_NL only
+/// when `nonlinear`).
+fn point_at(
+    study: &SweepStudy,
+    tp: &TradePlan,
+    x: f64,
+    nonlinear: bool,
+) -> crate::sweep::PointRecord {
+    let reads = tp.read_results();
+    let mut s = study.clone();
+    s.spec.axes[0].values = vec![x];
+    s.spec.compute = Compute {
+        kalker: reads.contains(&ResultKind::KalkerCriticalSpeed),
+        hopf: reads.contains(&ResultKind::HopfSpeed),
+        nonlinear: nonlinear && reads.contains(&ResultKind::NonlinearCriticalSpeed),
+    };
+    crate::sweep::point::compute(&s, 0, &Spares::default())
+}
+
+/// The curves of the trade.
+fn curves(
+    path: &Path,
+    file: &StudyFile,
+    axis: &KeyAxis,
+    tp: &TradePlan,
+) -> Result<(KeyedStudy, CurveReport, Vec<f64>), Failure> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| user(anyhow!("reading {}: {e}", path.display())))?;
+    let keyed = KeyedStudy::new(&text, &path.display().to_string(), path.parent(), &axis.key)
+        .map_err(curve_failure)?;
+    let spec = crate::curve::resolve(&section(file, axis, tp), &keyed).map_err(curve_failure)?;
+    let report = crate::curve::analyse(&keyed, &spec, None).map_err(curve_failure)?;
+    let grid = fold_grid(&spec, keyed.own_value());
+    Ok((keyed, report, grid))
+}
+
+/// Runs the curve trade: writes trade.csv, trade.json and trade.svg, prints the summary (or
+/// the JSON with `--json`).
+pub(super) fn run(
+    a: &TradeArgs,
+    root: &Path,
+    plan: &Plan,
+    file: &StudyFile,
+    tp: &TradePlan,
+) -> Result<(), Failure> {
+    if a.from_csv {
+        return Err(user(anyhow!(
+            "--from-csv: method = \"curve\" does not read sweep.csv (it computes curves over the sweep's key); drop --from-csv or use method = \"grid\""
+        )));
+    }
+    let study = SweepStudy::load(&a.study).map_err(crate::api::sweep_failure)?;
+    let axis = crate::trade::curve::key_axis(&study.spec, tp).map_err(user)?;
+    let t0 = Instant::now();
+    let (_keyed, report, vnl_grid) = curves(&a.study, file, &axis, tp)?;
+    statusln!(
+        "curves over {}: {} curves in {:.2} s",
+        axis.key,
+        report.curves.len(),
+        t0.elapsed().as_secs_f64()
+    );
+    let on = OnCurves {
+        plan: tp,
+        axis: &axis,
+        report: &report,
+        vnl_grid,
+    };
+    let linear = |x: f64| point_at(&study, tp, x, false);
+    let whole = |x: f64| point_at(&study, tp, x, true);
+    let t1 = Instant::now();
+    let trade = intervals::run(
+        &on,
+        &PointAt {
+            linear: &linear,
+            whole: &whole,
+        },
+    );
+    statusln!(
+        "intervals, best design and its verification: {:.2} s",
+        t1.elapsed().as_secs_f64()
+    );
+    let dir = out_dir(root, plan)?;
+    write(
+        &dir,
+        "trade.csv",
+        curve_report::csv(&axis, &trade).as_bytes(),
+    )?;
+    let j = curve_report::json(&plan.name, tp, &axis, &report, &trade);
+    let text = serde_json::to_string_pretty(&j).map_err(compute)? + "\n";
+    write(&dir, "trade.json", text.as_bytes())?;
+    let fig = crate::figures::trade_curve(&plan.name, tp, &axis, &trade);
+    write_figure(&dir, fig, "trade.csv and trade.json")?;
+    if a.json {
+        results(&text)?;
+    } else {
+        results(&curve_report::summary(
+            &plan.name, tp, &axis, &report, &trade,
+        ))?;
+    }
+    Ok(())
+}

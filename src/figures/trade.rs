@@ -1,0 +1,98 @@
+//! `trade.svg` of a curve trade: the critical speeds the trade reads against the key, the
+//! constraints' bounds as lines, the feasible intervals shaded, the best design and its
+//! verification marked.
+
+use super::{figure, line, render, Rendered};
+use crate::plot::{Marker, Series, Style};
+use crate::trade::curve::KeyAxis;
+use crate::trade::intervals::CurveTrade;
+use crate::trade::{display_unit, Target, TradePlan};
+
+/// The curve trade's figure (key in display units, speeds in m/s).
+pub fn trade_curve(study: &str, plan: &TradePlan, axis: &KeyAxis, t: &CurveTrade) -> Rendered {
+    let (unit, f) = display_unit(axis.dim);
+    let mut fig = figure(
+        &format!("{study}: critical speeds on curves against {}", axis.key),
+        &format!("{} ({unit})", axis.key),
+        "speed (m/s)",
+    );
+    fig.x_log = axis.log;
+    // the whole axis, so that key values without a known result show as such
+    fig.x_range = Some((axis.range.0 * f, axis.range.1 * f));
+    let reads = plan.read_results();
+    let mut ys: Vec<f64> = Vec::new();
+    let mut lines = Vec::new();
+    for (k, r) in crate::trade::ResultKind::ALL.into_iter().enumerate() {
+        if !reads.contains(&r) {
+            continue;
+        }
+        let pts: Vec<(f64, f64)> = t
+            .samples
+            .iter()
+            .map(|(s, _)| (s.x * f, s.row.results[k].unwrap_or(f64::NAN)))
+            .collect();
+        ys.extend(pts.iter().map(|p| p.1).filter(|y| y.is_finite()));
+        if pts.iter().any(|p| p.1.is_finite()) {
+            lines.push(line(&format!("{} (curves)", r.name()), pts, false));
+        }
+    }
+    for c in &plan.constraints {
+        if let Target::Result(_) = c.target {
+            for b in [c.at_least, c.at_most].into_iter().flatten() {
+                ys.push(b);
+                fig.hlines.push(Marker {
+                    at: b,
+                    label: c.text.clone(),
+                });
+            }
+        }
+    }
+    let (lo, hi) = ys
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), y| {
+            (l.min(*y), h.max(*y))
+        });
+    let (lo, hi) = if lo <= hi { (lo, hi) } else { (0.0, 1.0) };
+    let pad = if hi > lo { 0.08 * (hi - lo) } else { 1.0 };
+    let (y0, y1) = (lo - pad, hi + pad);
+    fig.y_range = Some((y0, y1));
+    for (k, i) in t.intervals.iter().enumerate() {
+        let (a, b) = (i.from.x * f, i.to.x * f);
+        fig.series.push(Series {
+            name: if k == 0 {
+                "feasible".into()
+            } else {
+                String::new()
+            },
+            points: vec![(a, y0), (b, y0), (b, y1), (a, y1)],
+            style: Style::Shade,
+        });
+    }
+    fig.series.extend(lines);
+    if let Some(b) = &t.best {
+        fig.vlines.push(Marker {
+            at: b.x * f,
+            label: format!("best {}", crate::trade::plan::fmt_si(b.x * f)),
+        });
+    }
+    if let Some(v) = &t.verification {
+        let pts: Vec<(f64, f64)> = (0..3)
+            .filter_map(|k| v.computed.results[k].map(|y| (v.x * f, y)))
+            .collect();
+        if !pts.is_empty() {
+            fig.series.push(Series {
+                name: format!(
+                    "verification (one-point computation): {}",
+                    if v.feasible {
+                        "feasible"
+                    } else {
+                        "NOT feasible"
+                    }
+                ),
+                points: pts,
+                style: Style::Points,
+            });
+        }
+    }
+    render("trade.svg", &fig, 900, 580)
+}

@@ -1,0 +1,338 @@
+//! The feasible intervals of a curve trade, their ends, the best design and its verification
+//! (the definitions are in [`super::curve`]).
+
+use super::curve::{binding, locate, margin, row_of, OnCurves, Sample, VnlSource, END_TOL, NUDGE};
+use super::select::infeasibility;
+use super::table::Row;
+use super::{ResultKind, Sense, Target};
+use crate::curve::SpecialKind;
+use crate::sweep::PointRecord;
+
+/// One end of a feasible interval.
+#[derive(Clone, Debug, PartialEq)]
+pub struct End {
+    /// key value (SI)
+    pub x: f64,
+    /// how it was found, in words with the numbers
+    pub how: String,
+    /// the curves' estimate alone (linear interpolation of the constraint margin between the
+    /// two samples), when both samples have one
+    pub curve_estimate: Option<f64>,
+    /// evaluations of the one-point computation spent on it
+    pub evaluations: usize,
+}
+
+/// A run of feasible key values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Interval {
+    /// lower end
+    pub from: End,
+    /// upper end
+    pub to: End,
+    /// what changes inside: V_NL's jumps, double Hopf points
+    pub notes: Vec<String>,
+}
+
+/// The best design on the intervals.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Best {
+    /// key value (SI)
+    pub x: f64,
+    /// the interval it ends
+    pub interval: usize,
+    /// the curves' results there
+    pub predicted: Row,
+}
+
+/// The best design recomputed by the one-point computation of a sweep.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Verification {
+    /// the key value computed (SI): the best moved into its interval
+    pub x: f64,
+    /// by how much and why, in words
+    pub nudge: String,
+    /// the curves' results at `x`
+    pub predicted: Row,
+    /// the one-point computation's results at `x`
+    pub computed: Row,
+    /// whether the computed results meet every constraint
+    pub feasible: bool,
+    /// why not (empty when feasible)
+    pub reason: String,
+    /// the computed results' smallest relative constraint margin
+    pub margin: f64,
+}
+
+/// Everything a curve trade gives.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveTrade {
+    /// the samples and why each is infeasible (`None`: feasible)
+    pub samples: Vec<(Sample, Option<String>)>,
+    /// the feasible intervals, increasing in the key
+    pub intervals: Vec<Interval>,
+    /// the best design
+    pub best: Option<Best>,
+    /// its verification
+    pub verification: Option<Verification>,
+}
+
+/// The two one-point computations a curve trade calls: the results the trade reads at a key
+/// value, V_NL left out (`linear`, cheap, for the ends), and all of them (`whole`, for the
+/// verification).
+pub struct PointAt<'a> {
+    /// V_L and V_H (as read) at a key value
+    pub linear: &'a dyn Fn(f64) -> PointRecord,
+    /// every result read, V_NL by the whole diagram
+    pub whole: &'a dyn Fn(f64) -> PointRecord,
+}
+
+fn describe_binding(on: &OnCurves, row: &Row, x: f64) -> String {
+    let plan = on.plan;
+    let Some(i) = binding(plan, row) else {
+        return "no constraint".into();
+    };
+    let c = &plan.constraints[i];
+    match &c.target {
+        Target::Axis { key, .. } => format!("the bound of {} ({})", key, c.text),
+        Target::Result(ResultKind::NonlinearCriticalSpeed) => match on.vnl(x).1 {
+            VnlSource::Between { a, va, b, vb } => format!(
+                "{}: V_NL by linear interpolation between its points at {} = {a} ({va:.4} m/s) and {b} ({vb:.4} m/s)",
+                c.text, on.axis.key
+            ),
+            VnlSource::OnCurves { curves, a, va, b, vb } => {
+                let list: Vec<String> = curves.iter().map(|i| format!("{i}")).collect();
+                format!(
+                    "{}: V_NL along curve {} (linear interpolation between its adjacent points), between the V_NL points at {} = {a} ({va:.4} m/s) and {b} ({vb:.4} m/s)",
+                    c.text,
+                    list.join(" and "),
+                    on.axis.key
+                )
+            }
+            VnlSource::Point => format!("{}: at a V_NL point of the curves", c.text),
+            _ => format!("{}: V_NL not known past this value", c.text),
+        },
+        Target::Result(r) => format!(
+            "{}: located on the {} curve by the Illinois method on the first onset of the study rewritten at each key value (the sweep's linear analysis, which the curve's point there equals)",
+            c.text,
+            if *r == ResultKind::KalkerCriticalSpeed { "V_L" } else { "V_H" }
+        ),
+    }
+}
+
+/// The end between sample `good` (feasible) and `bad` (infeasible).
+fn end(
+    on: &OnCurves,
+    truth: &dyn Fn(f64) -> Row,
+    good: &(Sample, Option<String>),
+    bad: &(Sample, Option<String>),
+) -> End {
+    let ax = on.axis;
+    let (pg, pb) = (ax.p(good.0.x), ax.p(bad.0.x));
+    let (mg, mb) = (margin(on.plan, &good.0.row), margin(on.plan, &bad.0.row));
+    let curve_estimate = (mg.is_finite() && mb.is_finite() && mg != mb)
+        .then(|| ax.x(pg + mg / (mg - mb) * (pb - pg)));
+    let f = |p: f64| margin(on.plan, &truth(ax.x(p)));
+    let (fg, fb) = (f(pg), f(pb));
+    let tol = END_TOL * (ax.p(ax.range.1) - ax.p(ax.range.0)).abs();
+    let (p, n) = if fg >= 0.0 && fb < 0.0 {
+        locate(&f, (pg, fg), (pb, fb), tol)
+    } else {
+        // the one-point computation disagrees with the curves' samples about this bracket:
+        // keep the feasible sample, and say so
+        (pg, 0)
+    };
+    let x = ax.x(p);
+    let row = truth(x);
+    // past a sample without a value (a failure, V_NL unknown) the end is where the values stop
+    let set_by = if mb == f64::NEG_INFINITY {
+        "the last key value where every result the trade reads is known (bisection)".to_string()
+    } else {
+        describe_binding(on, &row, x)
+    };
+    let mut how = format!(
+        "{set_by}; bracketed by the curve samples at {} = {} and {}",
+        ax.key, good.0.x, bad.0.x
+    );
+    if !(fg >= 0.0 && fb < 0.0) {
+        how += &format!(
+            "; the one-point computation does not confirm the bracket (margins {fg:.3e} and {fb:.3e}): the feasible sample is given"
+        );
+    }
+    if let Some(why) = &bad.1 {
+        how += &format!("; beyond it: {why}");
+    }
+    End {
+        x,
+        how,
+        curve_estimate,
+        evaluations: n + 3,
+    }
+}
+
+fn range_end(x: f64) -> End {
+    End {
+        x,
+        how: "the end of the sweep axis' range".into(),
+        curve_estimate: Some(x),
+        evaluations: 0,
+    }
+}
+
+/// The notes of the curves about what changes between `from` and `to`.
+fn interval_notes(on: &OnCurves, from: f64, to: f64) -> Vec<String> {
+    let ax = on.axis;
+    let inside = |x: f64| ax.p(from) <= ax.p(x) && ax.p(x) <= ax.p(to);
+    let mut out = Vec::new();
+    let reads_vnl = on
+        .plan
+        .read_results()
+        .contains(&ResultKind::NonlinearCriticalSpeed);
+    if reads_vnl {
+        let mut known = on.report.nonlinear_critical_speed.clone();
+        known.sort_by(|a, b| ax.p(a.0).total_cmp(&ax.p(b.0)));
+        for w in known.windows(2) {
+            let prefix = format!(
+                "V_NL changes curve between {} = {} and {}:",
+                ax.key, w[0].0, w[1].0
+            );
+            let overlaps = ax.p(w[0].0) < ax.p(to) && ax.p(w[1].0) > ax.p(from);
+            if overlaps {
+                out.extend(
+                    on.report
+                        .notes
+                        .iter()
+                        .filter(|n| n.starts_with(&prefix))
+                        .cloned(),
+                );
+            }
+        }
+    }
+    for s in &on.report.special_points {
+        if s.kind == SpecialKind::DoubleHopf && inside(s.parameter) {
+            out.push(format!(
+                "double Hopf point at {} = {}, {:.3} m/s: two modes are critical there, the critical speed may change mode (a kink)",
+                ax.key, s.parameter, s.speed_m_s
+            ));
+        }
+    }
+    out
+}
+
+/// The intervals, the best design and its verification.
+pub fn run(on: &OnCurves, points: &PointAt) -> CurveTrade {
+    let key = &on.axis.key;
+    let reads_vnl = on
+        .plan
+        .read_results()
+        .contains(&ResultKind::NonlinearCriticalSpeed);
+    let truth = |x: f64| {
+        let mut rec = (points.linear)(x);
+        if reads_vnl {
+            let (v, source) = on.vnl(x);
+            rec.nonlinear_m_s = v;
+            if let (None, VnlSource::Unknown(why)) = (v, source) {
+                rec.failures.push(format!("nonlinear: {why}"));
+            }
+        }
+        row_of(key, x, &rec)
+    };
+    let samples: Vec<(Sample, Option<String>)> = on
+        .sample_values()
+        .into_iter()
+        .map(|x| {
+            let s = on.sample(x);
+            let why = infeasibility(on.plan, &s.row);
+            (s, why)
+        })
+        .collect();
+    let mut intervals = Vec::new();
+    let mut i = 0;
+    while i < samples.len() {
+        if samples[i].1.is_some() {
+            i += 1;
+            continue;
+        }
+        let mut j = i;
+        while j + 1 < samples.len() && samples[j + 1].1.is_none() {
+            j += 1;
+        }
+        let from = match i {
+            0 => range_end(samples[0].0.x),
+            _ => end(on, &truth, &samples[i], &samples[i - 1]),
+        };
+        let to = if j + 1 == samples.len() {
+            range_end(samples[j].0.x)
+        } else {
+            end(on, &truth, &samples[j], &samples[j + 1])
+        };
+        let notes = interval_notes(on, from.x, to.x);
+        intervals.push(Interval { from, to, notes });
+        i = j + 1;
+    }
+    let best = best(on, &intervals);
+    let verification = best
+        .as_ref()
+        .map(|b| verify(on, points, &intervals[b.interval], b));
+    CurveTrade {
+        samples,
+        intervals,
+        best,
+        verification,
+    }
+}
+
+fn best(on: &OnCurves, intervals: &[Interval]) -> Option<Best> {
+    let (interval, x) = match on.plan.objective.sense {
+        Sense::Minimize => intervals.first().map(|i| (0, i.from.x))?,
+        Sense::Maximize => intervals.last().map(|i| (intervals.len() - 1, i.to.x))?,
+    };
+    Some(Best {
+        x,
+        interval,
+        predicted: on.sample(x).row,
+    })
+}
+
+fn verify(on: &OnCurves, points: &PointAt, interval: &Interval, b: &Best) -> Verification {
+    let ax = on.axis;
+    let at_range_end = interval_end_is_range(interval, b.x, on.plan.objective.sense);
+    let width = (ax.p(interval.to.x) - ax.p(interval.from.x)).abs();
+    let step = if at_range_end {
+        0.0
+    } else {
+        (NUDGE * ax.span_p()).min(0.5 * width)
+    };
+    let inward = match on.plan.objective.sense {
+        Sense::Minimize => 1.0,
+        Sense::Maximize => -1.0,
+    };
+    let x = ax.x(ax.p(b.x) + inward * step);
+    let nudge = if at_range_end {
+        "none: the best value is an end of the sweep axis' range, not a constraint's bound".into()
+    } else {
+        format!(
+            "moved into the interval by {step:.3e} of the {} axis ({} of its span, at most half the interval), since at the end itself a speed equals its bound",
+            if ax.log { "ln-key" } else { "key" },
+            NUDGE
+        )
+    };
+    let computed = row_of(&ax.key, x, &(points.whole)(x));
+    let reason = infeasibility(on.plan, &computed);
+    Verification {
+        x,
+        nudge,
+        predicted: on.sample(x).row,
+        margin: margin(on.plan, &computed),
+        feasible: reason.is_none(),
+        reason: reason.unwrap_or_default(),
+        computed,
+    }
+}
+
+fn interval_end_is_range(i: &Interval, x: f64, sense: Sense) -> bool {
+    let e = match sense {
+        Sense::Minimize => &i.from,
+        Sense::Maximize => &i.to,
+    };
+    e.x == x && e.evaluations == 0 && e.how.starts_with("the end of the sweep axis")
+}
