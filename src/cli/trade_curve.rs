@@ -83,7 +83,9 @@ fn curves(
     let keyed = KeyedStudy::new(&text, &path.display().to_string(), path.parent(), &axis.key)
         .map_err(curve_failure)?;
     let spec = crate::curve::resolve(&section(file, axis, tp), &keyed).map_err(curve_failure)?;
-    let report = crate::curve::analyse(&keyed, &spec, None).map_err(curve_failure)?;
+    let progress = |line: &str| statusln!("  {line}");
+    let report = crate::curve::analyse_with_progress(&keyed, &spec, None, Some(&progress))
+        .map_err(curve_failure)?;
     let grid = fold_grid(&spec, keyed.own_value());
     Ok((keyed, report, grid))
 }

@@ -94,8 +94,17 @@ pub(super) fn fold_curves(
     let start = report.curves.len();
     let mut first_seed = None;
     let mut diagrams = 0;
+    // the values every fold curve is solved at (user points): the grid and the first
+    // diagram's value (the study's own), so that V_NL there sees every curve, whichever
+    // diagram it was followed from
+    let first_value = split(spec, own, &grid).0;
+    let mut pins = grid.clone();
+    if !pins.contains(&first_value) {
+        pins.push(first_value);
+        pins.sort_by(|a, b| ((a - b) * (spec.range.1 - spec.range.0)).total_cmp(&0.0));
+    }
     for seed in seeds {
-        let (first, fore, back) = split(spec, seed, &grid);
+        let (first, fore, back) = split(spec, seed, &pins);
         if first_seed.is_none() {
             first_seed = Some(first);
         } else if Some(first) == first_seed && seed != first_seed {
@@ -124,6 +133,14 @@ pub(super) fn fold_curves(
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| {
                     (a.0.min(p.parameter), a.1.max(p.parameter))
                 });
+            if t.points.is_empty() {
+                say(&format!(
+                    "  {} not followed: {} ({seconds:.1} s)",
+                    label(t.branch_kind),
+                    t.stops.0
+                ));
+                return;
+            }
             let at = t.points.iter().find(|p| p.parameter == first);
             say(&format!(
                 "  {} from {}: {} points over {} in [{}, {}] ({seconds:.1} s)",
@@ -171,6 +188,15 @@ pub(super) fn fold_curves(
         ));
         report.stats.models_built += fore.len() + back.len() + 1;
         for t in &tracks {
+            if t.points.is_empty() {
+                report.notes.push(format!(
+                    "a {} of the diagram at {} was not followed: {}",
+                    label(t.branch_kind),
+                    spec.show(first),
+                    t.stops.0
+                ));
+                continue;
+            }
             let index = report.curves.len();
             for sp in &t.special {
                 report.special_points.push(special_point(sp, index));

@@ -40,29 +40,39 @@ pub struct CurveSpec {
 impl CurveSpec {
     /// `key = value unit` for messages (e.g. `secondary.yaw_damping = 109.091 N s/mm`).
     pub fn show(&self, value: f64) -> String {
-        format!("{} = {}", self.key, self.quantity(value))
+        show(&self.key, self.dimension, value)
     }
 
     /// `value unit`, the value in the key's display unit to 6 significant digits.
     pub fn quantity(&self, value: f64) -> String {
-        let (unit, factor) = crate::trade::display_unit(self.dimension);
-        let v = value * factor;
-        let digits = if v == 0.0 || !v.is_finite() {
-            0
-        } else {
-            (5 - v.abs().log10().floor() as i32).clamp(0, 12) as usize
-        };
-        let text = if v != 0.0 && (v.abs() >= 1e7 || v.abs() < 1e-4) {
-            format!("{v:.5e}")
-        } else {
-            format!("{v:.digits$}")
-        };
-        let unit = match unit {
-            "-" | "" => String::new(),
-            u => format!(" {u}"),
-        };
-        format!("{text}{unit}")
+        quantity(self.dimension, value)
     }
+}
+
+/// `key = value unit`, as [`CurveSpec::show`] (the curve report's notes use it).
+pub fn show(key: &str, dimension: Dimension, value: f64) -> String {
+    format!("{key} = {}", quantity(dimension, value))
+}
+
+/// `value unit`, the value in the dimension's display unit to 6 significant digits.
+pub fn quantity(dimension: Dimension, value: f64) -> String {
+    let (unit, factor) = crate::trade::display_unit(dimension);
+    let v = value * factor;
+    let digits = if v == 0.0 || !v.is_finite() {
+        0
+    } else {
+        (5 - v.abs().log10().floor() as i32).clamp(0, 12) as usize
+    };
+    let text = if v != 0.0 && (v.abs() >= 1e7 || v.abs() < 1e-4) {
+        format!("{v:.5e}")
+    } else {
+        format!("{v:.digits$}")
+    };
+    let unit = match unit {
+        "-" | "" => String::new(),
+        u => format!(" {u}"),
+    };
+    format!("{text}{unit}")
 }
 
 fn rule(key: &str, value: impl ToString, rule: impl ToString) -> CurveError {

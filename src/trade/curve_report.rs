@@ -19,7 +19,7 @@ fn sense_word(s: Sense) -> &'static str {
 }
 
 /// A key value in display units with the unit, e.g. `"412.3 N/mm"`.
-fn key_text(plan: &TradePlan, si: f64) -> String {
+pub(super) fn key_text(plan: &TradePlan, si: f64) -> String {
     match display_unit(plan.objective.dim) {
         ("-", f) => fmt_si(si * f),
         (unit, f) => format!("{} {unit}", fmt_si(si * f)),
@@ -116,6 +116,26 @@ pub fn summary(
             "  on the curves:                                {}",
             results_text(plan, &v.predicted)
         );
+        // the two methods' values apart: said in words, whichever way the constraint goes
+        for r in plan.read_results() {
+            if let (Some(c), Some(p)) = (v.computed.result(r), v.predicted.result(r)) {
+                if (c - p).abs() > 1e-3 * p.abs() {
+                    let why = if r == ResultKind::NonlinearCriticalSpeed && c > p {
+                        ": the curves follow a fold of cycles that the whole diagram's branches do not reach, and V_NL is the lower of the two"
+                    } else {
+                        ""
+                    };
+                    let _ = writeln!(
+                        s,
+                        "  the methods differ: {} {} m/s from the one-point computation, {} m/s on the curves ({:+.2} %){why}",
+                        r.name(),
+                        fmt_si(c),
+                        fmt_si(p),
+                        100.0 * (c - p) / p
+                    );
+                }
+            }
+        }
         if v.feasible {
             let _ = writeln!(
                 s,

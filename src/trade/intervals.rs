@@ -151,7 +151,9 @@ fn end(
     };
     let mut how = format!(
         "{set_by}; bracketed by the curve samples at {} = {} and {}",
-        ax.key, good.0.x, bad.0.x
+        ax.key,
+        super::curve_report::key_text(on.plan, good.0.x),
+        super::curve_report::key_text(on.plan, bad.0.x)
     );
     if !(fg >= 0.0 && fb < 0.0) {
         how += &format!(
@@ -191,9 +193,12 @@ fn interval_notes(on: &OnCurves, from: f64, to: f64) -> Vec<String> {
         let mut known = on.report.nonlinear_critical_speed.clone();
         known.sort_by(|a, b| ax.p(a.0).total_cmp(&ax.p(b.0)));
         for w in known.windows(2) {
+            // the curve report's own wording of the note
+            let show = |v: f64| crate::curve::spec::show(&ax.key, on.report.dimension, v);
             let prefix = format!(
-                "V_NL changes curve between {} = {} and {}:",
-                ax.key, w[0].0, w[1].0
+                "V_NL changes curve between {} and {}:",
+                show(w[0].0),
+                show(w[1].0)
             );
             let overlaps = ax.p(w[0].0) < ax.p(to) && ax.p(w[1].0) > ax.p(from);
             if overlaps {
@@ -210,8 +215,9 @@ fn interval_notes(on: &OnCurves, from: f64, to: f64) -> Vec<String> {
     for s in &on.report.special_points {
         if s.kind == SpecialKind::DoubleHopf && inside(s.parameter) {
             out.push(format!(
-                "double Hopf point at {} = {}, {:.3} m/s: two modes are critical there, the critical speed may change mode (a kink)",
-                ax.key, s.parameter, s.speed_m_s
+                "double Hopf point at {}, {:.3} m/s: two modes are critical there, the critical speed may change mode (a kink)",
+                crate::curve::spec::show(&ax.key, on.report.dimension, s.parameter),
+                s.speed_m_s
             ));
         }
     }
