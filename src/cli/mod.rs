@@ -112,7 +112,9 @@ pub enum Command {
     /// Join the records files of a sharded sweep into sweep.csv (refuses other studies' files).
     Merge(sweep::MergeArgs),
     /// The study's `[trade]` over its sweep (`out/<name>/sweep.csv`): the feasible set, the best
-    /// design and the Pareto front of critical speed against the objective (trade.csv, trade.svg).
+    /// design and the Pareto front of critical speed against the objective (trade.csv,
+    /// trade.svg); with `method = "curve"`, on the curves over the sweep's one key: feasible
+    /// intervals and the best design verified by a whole diagram (also trade.json).
     Trade(trade::TradeArgs),
     /// Validate a study and print the resolved plan in SI units.
     Check {
