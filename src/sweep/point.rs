@@ -96,7 +96,8 @@ pub struct PointRecord {
 }
 
 impl PointRecord {
-    fn empty(id: usize, values: Vec<f64>) -> Self {
+    /// A record of point `id` at `values` with no result yet.
+    pub(crate) fn empty(id: usize, values: Vec<f64>) -> Self {
         Self {
             id,
             values,

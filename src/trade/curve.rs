@@ -302,20 +302,7 @@ impl OnCurves<'_> {
     pub fn sample(&self, x: f64) -> Sample {
         let v_max = self.report.speed_range.1;
         let v_min = self.report.speed_range.0;
-        let mut rec = PointRecord {
-            id: 0,
-            values: vec![x],
-            kalker_m_s: None,
-            hopf_m_s: None,
-            nonlinear_m_s: None,
-            failures: Vec::new(),
-            kalker_frequency_hz: None,
-            hopf_frequency_hz: None,
-            nonlinear_located: None,
-            above_range: Vec::new(),
-            stable_up_to_m_s: None,
-            no_hopf: false,
-        };
+        let mut rec = PointRecord::empty(0, vec![x]);
         let mut vnl = VnlSource::NotRead;
         for r in self.plan.read_results() {
             let c = computed(r);
