@@ -8,6 +8,11 @@
 //! * `curve_cubic_fold_friction_folds`: the fold curves and V_NL of `studies/cubic-fold.toml`
 //!   over friction 0.05 to 0.6 (the diagrams at the study's own and at five grid values, the
 //!   fold continued as the fold system over the range, solved at 12 friction values).
+//! * `curve_dtu_bogie_yaw_damping_folds` and `curve_dtu_car_yaw_damping_folds`: the whole
+//!   `critspeed curve` of `studies/dtu-cooperrider-bogie.toml` (0 to 400 kN s/m) and of
+//!   `studies/dtu-car-yaw-damper-trade.toml` (20 to 640 kN s/m, log): Hopf curves, the six
+//!   diagrams, every fold curve and V_NL (goals 10 s and 60 s on two threads). Ten samples
+//!   each: minutes; run them alone with `cargo bench --bench curve -- _folds`.
 //! * `first_lyapunov_seed_hunting`: l1 at the Shen Hopf point of `studies/seed-hunting.toml`
 //!   (Richardson tableau of central differences of the exact Jacobian).
 
@@ -50,6 +55,24 @@ fn benches(c: &mut Criterion) {
     };
     group.bench_function("curve_cubic_fold_friction_folds", |b| {
         b.iter(|| api::curve::curve(black_box(&cubic), None).expect("curves"))
+    });
+    group.finish();
+    let whole = |name: &str| {
+        let source = Source::file(&study(name)).expect("study file");
+        api::curve::curve_study(&source).expect("curve study")
+    };
+    let (bogie, car) = (
+        whole("dtu-cooperrider-bogie.toml"),
+        whole("dtu-car-yaw-damper-trade.toml"),
+    );
+    let mut group = c.benchmark_group("very_slow");
+    group.sample_size(10);
+    group.sampling_mode(criterion::SamplingMode::Flat);
+    group.bench_function("curve_dtu_bogie_yaw_damping_folds", |b| {
+        b.iter(|| api::curve::curve(black_box(&bogie), None).expect("curves"))
+    });
+    group.bench_function("curve_dtu_car_yaw_damping_folds", |b| {
+        b.iter(|| api::curve::curve(black_box(&car), None).expect("curves"))
     });
     group.finish();
     let plan = critspeed::study::load(&study("seed-hunting.toml")).expect("study");

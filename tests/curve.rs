@@ -178,6 +178,46 @@ fn cubic_fold_fold_curve_equals_whole_diagrams() {
     );
 }
 
+/// The fold curves' default integrator tolerance (1e-8) against a 100 times tighter one: V_NL
+/// at every value of the cubic-fold study's grid moves by less than 1e-7 relative (Newton's
+/// tolerance 10 rtol bounds it from above; the difference is the integration error).
+#[test]
+fn v_nl_curve_converges_as_the_tolerance_is_tightened() {
+    let path = studies().join("cubic-fold.toml");
+    let text = std::fs::read_to_string(&path).expect("study");
+    let v_nl = |rtol: Option<f64>| {
+        let mut table: toml::Table = toml::from_str(&text).expect("toml");
+        if let Some(r) = rtol {
+            let curve = table
+                .get_mut("curve")
+                .and_then(|c| c.as_table_mut())
+                .expect("[curve]");
+            curve.insert("rtol".into(), toml::Value::Float(r));
+        }
+        let source = Source {
+            text: toml::to_string(&table).expect("toml"),
+            origin: format!("cubic-fold.toml with curve.rtol = {rtol:?}"),
+            folder: Some(studies()),
+        };
+        let study = api::curve::curve_study(&source).expect("curve study");
+        api::curve::curve(&study, None)
+            .expect("curves")
+            .nonlinear_critical_speed
+    };
+    let (loose, tight) = (v_nl(None), v_nl(Some(1e-10)));
+    assert_eq!(loose.len(), tight.len());
+    assert!(loose.len() >= 8, "{} V_NL values", loose.len());
+    let mut worst: f64 = 0.0;
+    for (a, b) in loose.iter().zip(&tight) {
+        assert_eq!(a.0, b.0);
+        worst = worst.max((a.1 - b.1).abs() / b.1);
+    }
+    assert!(
+        worst < 1e-7,
+        "V_NL moves by {worst:e} relative from rtol 1e-8 to 1e-10"
+    );
+}
+
 /// V_NL of study `name` against its `[curve]` key, each value checked by an independent
 /// method. At every value of V_NL's curve the study rewritten with that key value is analysed
 /// whole: where its diagram (continued from its own Hopf point, with branch switching) has a
@@ -676,22 +716,29 @@ fn cusps_are_turning_points_of_the_fold_curves() {
     let span = 400e3;
     for s in cusps {
         let c = &r.curves[s.curve];
-        let near: Vec<_> = c
-            .points
-            .iter()
-            .filter(|p| {
-                (p.parameter - s.parameter).abs() <= 0.02 * span
-                    && (p.speed_m_s - s.speed_m_s).abs() <= 0.05 * s.speed_m_s
-            })
-            .collect();
-        assert!(near.len() >= 2, "{s:?}: {} points near", near.len());
-        // the cusp is located on the sign of the tangent's key component, from the chord
-        // corrector's derivatives: to about 1e-5 of the key's range
-        let below = near
+        // the curve's point nearest the cusp (key and speed each relative to its range, as
+        // the steps are bounded: 0.02 of that box's diagonal), and its neighbours along the
+        // curve: a turning point of the key has them all on one side
+        let speeds = r.speed_range.1 - r.speed_range.0;
+        let distance = |p: &critspeed::curve::CurvePoint| {
+            ((p.parameter - s.parameter) / span).hypot((p.speed_m_s - s.speed_m_s) / speeds)
+        };
+        let nearest = (0..c.points.len())
+            .min_by(|&a, &b| distance(&c.points[a]).total_cmp(&distance(&c.points[b])))
+            .expect("points");
+        assert!(
+            distance(&c.points[nearest]) <= 0.02,
+            "{s:?}: no curve point within a step of it"
+        );
+        let around = &c.points[nearest.saturating_sub(2)..(nearest + 3).min(c.points.len())];
+        assert!(around.len() >= 3, "{s:?}: {} points around", around.len());
+        // the cusp is located on the sign of the tangent's key component: to about 1e-5 of
+        // the key's range
+        let below = around
             .iter()
             .filter(|p| p.parameter < s.parameter - 1e-4 * span)
             .count();
-        let above = near
+        let above = around
             .iter()
             .filter(|p| p.parameter > s.parameter + 1e-4 * span)
             .count();

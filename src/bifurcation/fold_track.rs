@@ -270,8 +270,9 @@ pub(super) fn follow<const N: usize>(
     let mut jobs = Vec::new();
     for run in runs.iter() {
         for sp in run.branch.special.iter() {
+            // a fold the diagram only bracketed is a start too: the fold system's Newton
+            // locates it (or says why not, in a note)
             if sp.kind != SpecialKind::Fold
-                || !sp.located
                 || sp.amplitude < MIN_FOLD_AMPLITUDE
                 || (track.skip)(sp.orbit.param, sp.amplitude)
             {

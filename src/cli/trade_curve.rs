@@ -49,6 +49,7 @@ fn section(file: &StudyFile, axis: &KeyAxis, tp: &TradePlan) -> CurveSection {
         max_step: own.as_ref().and_then(|c| c.max_step),
         seed_points: own.as_ref().and_then(|c| c.seed_points),
         fold_points: own.as_ref().and_then(|c| c.fold_points),
+        rtol: own.as_ref().and_then(|c| c.rtol),
     }
 }
 

@@ -117,6 +117,7 @@ pub(super) fn fold_curves(
         let plan = study.plan_at(first).map_err(CurveError::Study)?;
         let mut opts = plan.bifurcation_options();
         opts.speed_range = spec.speed_range;
+        opts.rtol = spec.rtol;
         let model_at = |v: f64| study.model_at(v).map_err(|e| e.to_string());
         let known = report.curves[start..].to_vec();
         let skip = |speed: f64, _amplitude: f64| {

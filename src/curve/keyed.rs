@@ -74,17 +74,24 @@ impl KeyedStudy {
         None
     }
 
-    /// The validated plan with the key set to `value` (SI).
+    /// The validated plan with the key set to `value` (SI). When the key leaves the sections
+    /// the contact plan is built from (`[contact]`, `[wheelset]`, `[flange]`) as written, the
+    /// base study's contact plan is reused: reading and sampling the geometry again was a
+    /// tenth of a bogie's fold-curve run, and profile geometries cost far more.
     pub fn plan_at(&self, value: f64) -> Result<Plan, study::StudyError> {
         let mut t = self.table.clone();
         set_key(&mut t, &self.key, value);
+        let same_contact = ["contact", "wheelset", "flange"]
+            .iter()
+            .all(|s| t.get(*s) == self.table.get(*s));
         let file: StudyFile = toml::Value::Table(t)
             .try_into()
             .map_err(|e: toml::de::Error| study::StudyError::Syntax {
                 path: self.base.name.clone(),
                 message: e.to_string(),
             })?;
-        study::plan(file, self.folder.as_deref())
+        let contact = same_contact.then_some(&self.base.contact);
+        study::plan_with(file, self.folder.as_deref(), contact)
     }
 
     /// The model with the key set to `value`: the base study's contact table when the

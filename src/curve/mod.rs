@@ -30,7 +30,7 @@ pub mod spec;
 mod tests;
 pub mod trace;
 
-pub use run::{analyse, analyse_with_progress};
+pub use run::{analyse, analyse_with_progress, lowest_onset};
 pub use spec::{resolve, CurveSpec};
 
 use crate::contact::creep::CreepLaw;

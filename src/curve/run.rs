@@ -224,23 +224,34 @@ fn stable_band<const N: usize>(
             out.push((value, f64::NAN));
             continue;
         }
-        let onset = curves
-            .iter()
-            .flat_map(|c| c.points.windows(2))
-            .filter_map(|w| {
-                let (a, b) = (to_p(spec, w[0].parameter), to_p(spec, w[1].parameter));
-                let below =
-                    w[0].stable_side == StableSide::Below || w[1].stable_side == StableSide::Below;
-                if !(below && a.min(b) <= p && p <= a.max(b)) {
-                    return None;
-                }
-                let t = if a != b { (p - a) / (b - a) } else { 0.0 };
-                Some(w[0].speed_m_s + t * (w[1].speed_m_s - w[0].speed_m_s))
-            })
-            .fold(vhi, f64::min);
+        let onset = lowest_onset(curves, |v| to_p(spec, v), p).map_or(vhi, |v| v.min(vhi));
         out.push((value, onset));
     }
     Ok(out)
+}
+
+/// The lowest onset of instability at `p` on `curves`: the speed, interpolated linearly on
+/// the continuation's axis (`axis(key value)`), of each segment that crosses `p` with a
+/// stable side below; `None` when no such segment crosses it.
+pub fn lowest_onset<'c>(
+    curves: impl IntoIterator<Item = &'c Curve>,
+    axis: impl Fn(f64) -> f64,
+    p: f64,
+) -> Option<f64> {
+    curves
+        .into_iter()
+        .flat_map(|c| c.points.windows(2))
+        .filter_map(|w| {
+            let (a, b) = (axis(w[0].parameter), axis(w[1].parameter));
+            let below =
+                w[0].stable_side == StableSide::Below || w[1].stable_side == StableSide::Below;
+            if !(below && a.min(b) <= p && p <= a.max(b)) {
+                return None;
+            }
+            let t = if a != b { (p - a) / (b - a) } else { 0.0 };
+            Some(w[0].speed_m_s + t * (w[1].speed_m_s - w[0].speed_m_s))
+        })
+        .reduce(f64::min)
 }
 
 /// The Hopf crossings of Kalker's law (`kalker`) or the study's own at `P` = `p`, as start

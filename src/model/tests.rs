@@ -142,6 +142,42 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+    /// The one-direction derivative J ξ (tangent flows) equals the exact Jacobian times ξ, and
+    /// its f equals `rhs_into`, on every layout, both creep laws (the same dual-number
+    /// arithmetic with one direction instead of four: agreement to rounding).
+    #[test]
+    fn tangent_equals_jacobian_times_direction(
+        seed in prop::collection::vec(-1.0f64..1.0, 5),
+        dir in prop::collection::vec(-1.0f64..1.0, 5),
+        speed in 10.0f64..120.0,
+        which in 0usize..10,
+    ) {
+        let spec = match which % 5 {
+            0 => VehicleSpec::Wheelset,
+            1 | 2 => bogie(which % 5 == 2),
+            _ => car(which % 5 == 4),
+        };
+        let law = if which < 5 { CreepLaw::Kalker } else { CreepLaw::Shen { friction: 0.3 } };
+        let v = seed_vehicle(&spec, law, true).expect("vehicle");
+        let n = v.states();
+        let (x, xi) = (state(n, &seed), state(n, &dir));
+        let (mut f, mut d) = (vec![0.0; n], vec![0.0; n]);
+        v.rhs_tangent_into(&x, speed, &xi, &mut f, &mut d);
+        let (mut f0, mut jac) = (vec![0.0; n], vec![0.0; n * n]);
+        v.rhs_jacobian_into(&x, speed, &mut f0, &mut jac);
+        for r in 0..n {
+            // (column-major) and the sum's scale: the largest term
+            let terms: Vec<f64> = (0..n).map(|c| jac[c * n + r] * xi[c]).collect();
+            let jxi: f64 = terms.iter().sum();
+            let scale = terms.iter().fold(1e-300_f64, |m, t| m.max(t.abs()));
+            prop_assert!((d[r] - jxi).abs() <= 1e-12 * scale, "{n} states, row {r}: {} vs {jxi}", d[r]);
+            prop_assert!((f[r] - f0[r]).abs() <= 1e-13 * f0[r].abs().max(1e-300), "{n} states, f row {r}");
+        }
+    }
+}
+
 /// Tangent track is symmetric: f(−x) = −f(x) for every layout (docs/model.md §11).
 #[test]
 fn vehicle_field_is_odd() {

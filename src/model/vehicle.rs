@@ -391,6 +391,32 @@ impl Vehicle {
         self.evaluate(x, v, Some(out), jac);
     }
 
+    /// $f(x; V)$ into `out` and the directional derivative $J\,\xi$ into `d`: the elements'
+    /// linear map applied to ξ, and each wheelset's contact forces in one-direction dual
+    /// numbers (a tangent flow needs no more than this; forming the whole Jacobian with four
+    /// directions per wheelset cost twice as much).
+    pub fn rhs_tangent_into(&self, x: &[f64], v: f64, xi: &[f64], out: &mut [f64], d: &mut [f64]) {
+        let n = self.dofs();
+        self.elements_into(x, out);
+        self.elements_into(xi, d);
+        for &w in &self.wheelset_dofs {
+            let (xw, dw) = (self.wheelset_state(x, w), self.wheelset_state(xi, w));
+            let xd: [Dual<1>; 4] = std::array::from_fn(|k| Dual {
+                re: xw[k],
+                eps: [dw[k]],
+            });
+            let (qy, qpsi) = self.contact.contact_forces(&xd, v);
+            out[n + w] += qy.re;
+            out[n + w + 1] += qpsi.re;
+            d[n + w] += qy.eps[0];
+            d[n + w + 1] += qpsi.eps[0];
+        }
+        for (i, m) in self.mass.iter().enumerate() {
+            out[n + i] /= m;
+            d[n + i] /= m;
+        }
+    }
+
     fn evaluate(&self, x: &[f64], v: f64, mut out: Option<&mut [f64]>, jac: &mut [f64]) {
         let n = self.dofs();
         let s = 2 * n;
@@ -498,6 +524,26 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
             self.rhs_jacobian_into(x.as_slice(), v, f.as_mut_slice(), jac.as_mut_slice());
         }
         (f, jac)
+    }
+    /// One evaluation in one-direction dual numbers ([`Vehicle::rhs_tangent_into`]).
+    fn rhs_tangent(
+        &self,
+        x: &SVector<f64, N>,
+        v: f64,
+        xi: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SVector<f64, N>) {
+        let mut f = SVector::<f64, N>::from_element(f64::NAN);
+        let mut d = SVector::<f64, N>::from_element(f64::NAN);
+        if N == self.states() {
+            self.rhs_tangent_into(
+                x.as_slice(),
+                v,
+                xi.as_slice(),
+                f.as_mut_slice(),
+                d.as_mut_slice(),
+            );
+        }
+        (f, d)
     }
     /// $J\Phi$ with $J = \begin{pmatrix} 0 & I \\ J_q & J_{\dot q} \end{pmatrix}$: the upper
     /// half of the product is the lower half of $\Phi$ (exactly what the dense product gives);

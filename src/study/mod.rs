@@ -280,6 +280,18 @@ pub(crate) fn conicity(q: &Quantity) -> Result<f64, StudyError> {
 }
 
 pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyError> {
+    plan_with(f, folder, None)
+}
+
+/// [`plan`], with the contact plan `contact` taken as it is instead of built from the file's
+/// `[contact]`, `[wheelset]` and `[flange]` sections: for a study that differs from the one
+/// `contact` was built for only elsewhere (a design key's value), where building it again
+/// would read and sample the same geometry.
+pub(crate) fn plan_with(
+    f: StudyFile,
+    folder: Option<&Path>,
+    contact: Option<&ContactPlan>,
+) -> Result<Plan, StudyError> {
     if f.name.is_empty()
         || !f
             .name
@@ -317,7 +329,10 @@ pub(crate) fn plan(f: StudyFile, folder: Option<&Path>) -> Result<Plan, StudyErr
         }),
         None => None,
     };
-    let contact = contact_plan(&f.contact, &wheelset, flange.as_ref(), folder)?;
+    let contact = match contact {
+        Some(c) => c.clone(),
+        None => contact_plan(&f.contact, &wheelset, flange.as_ref(), folder)?,
+    };
     let vehicle = vehicle::spec(&f)?;
     let primary_vertical = vehicle::primary_vertical(&f)?;
     let (linear, spectrum_points) = linear_plan(f.linear.as_ref())?;

@@ -407,4 +407,7 @@ pub struct CurveSection {
     /// values of the key at which the folds of cycles are located, ends included (default 12)
     #[serde(default)]
     pub fold_points: Option<usize>,
+    /// integrator relative tolerance of the fold curves and their diagrams (default 1e-8)
+    #[serde(default)]
+    pub rtol: Option<f64>,
 }

@@ -158,25 +158,12 @@ impl OnCurves<'_> {
     /// The lowest onset at `x` on the curves labelled `label`: `Some(v)`, or `None` when no
     /// curve with a stable side below crosses `x` (no onset in the speed range).
     pub fn onset(&self, label: &str, x: f64) -> Option<f64> {
-        let p = self.axis.p(x);
-        let segments = self
+        let curves = self
             .report
             .curves
             .iter()
-            .filter(|c| c.kind == CurveKind::Hopf && c.label == label)
-            .flat_map(|c| c.points.windows(2));
-        segments
-            .filter_map(|w| {
-                let (a, b) = (self.axis.p(w[0].parameter), self.axis.p(w[1].parameter));
-                let below =
-                    w[0].stable_side == StableSide::Below || w[1].stable_side == StableSide::Below;
-                if !(below && a.min(b) <= p && p <= a.max(b)) {
-                    return None;
-                }
-                let t = if a != b { (p - a) / (b - a) } else { 0.0 };
-                Some(w[0].speed_m_s + t * (w[1].speed_m_s - w[0].speed_m_s))
-            })
-            .reduce(f64::min)
+            .filter(|c| c.kind == CurveKind::Hopf && c.label == label);
+        crate::curve::lowest_onset(curves, |v| self.axis.p(v), self.axis.p(x))
     }
 
     /// Whether the centred motion is unstable at the bottom of the speed range near `x`: the

@@ -436,8 +436,8 @@ pub fn tangent_on_steps<const N: usize, F: VectorField<N>>(
 ) -> Result<(SVector<f64, N>, SVector<f64, N>), OdeError> {
     check_interval(horizon)?;
     let field = |x: &SVector<f64, N>, xi: &SVector<f64, N>| {
-        let (fx, j) = f.rhs_jacobian(x, p);
-        (fx * horizon, (j * xi) * horizon + fx * d_horizon)
+        let (fx, jxi) = f.rhs_tangent(x, p, xi);
+        (fx * horizon, jxi * horizon + fx * d_horizon)
     };
     let (mut x, mut xi) = (*x0, *xi0);
     let mut tau = 0.0;

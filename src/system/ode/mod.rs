@@ -74,6 +74,18 @@ pub trait VectorField<const N: usize>: Sync {
         let (f, j) = self.rhs_jacobian(x, p);
         (f, j * phi)
     }
+    /// $f$ and the directional derivative $J\,\xi$ at $(x; p)$ (a tangent flow's stage).
+    /// The default forms $J$ ([`rhs_jacobian`](Self::rhs_jacobian)); a field with
+    /// forward-mode dual numbers overrides it to carry the one direction only.
+    fn rhs_tangent(
+        &self,
+        x: &SVector<f64, N>,
+        p: f64,
+        xi: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SVector<f64, N>) {
+        let (f, j) = self.rhs_jacobian(x, p);
+        (f, j * xi)
+    }
     /// Number of switching functions (surfaces where $f$ is not smooth); default 0.
     fn switch_count(&self) -> usize {
         0
