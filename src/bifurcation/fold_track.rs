@@ -38,6 +38,14 @@
 //! through the unit circle a fold–torus point (LPNS); these change which side of the fold is
 //! stable. A fold whose amplitude falls to zero has reached the Hopf curve at a generalised
 //! Hopf (Bautin) point, where the curve ends.
+//!
+//! The same system with another test matrix continues the **flips** of the shooting map, where
+//! one of its multipliers passes −1: on a symmetric branch (half-period map, multiplier ν) the
+//! symmetry-breaking points, where asymmetric cycles branch off; on a full-period branch the
+//! period doublings. There $A = Φ - I$ (symmetric: the residual is $φ(T/2, x_0) + x_0$, so
+//! ν = −1 is an eigenvalue +1 of Φ) or $A = Φ + I$, $N × N$ without the phase row; its
+//! $Av = Φv ± v$ has the derivative of one tangent in the direction $(v_x, 0)$, so the gradient
+//! is the fold's with $v_T = 0$.
 
 use nalgebra::{Complex, DMatrix, DVector, SVector};
 use rayon::prelude::*;
@@ -94,6 +102,16 @@ const DS_MIN: f64 = 1e-4;
 /// The key's whole range in scaled units.
 const KEY_UNITS: f64 = 100.0;
 
+/// What a curve of the fold system continues.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TrackKind {
+    /// folds of cycles (the shooting Jacobian singular with the phase row)
+    Fold,
+    /// a multiplier of the shooting map at −1: symmetry breaking on a symmetric branch,
+    /// period doubling on a full-period one
+    Flip,
+}
+
 /// A family of models over a design key.
 pub struct FoldTracking<'a> {
     /// the grid's key values (SI) after the one the diagram was computed at, in order
@@ -104,9 +122,12 @@ pub struct FoldTracking<'a> {
     pub first: f64,
     /// the model at a key value
     pub model_at: &'a (dyn Fn(f64) -> Result<Vehicle, String> + Sync),
-    /// `skip(speed m/s, amplitude m)`: a fold of the diagram not to follow (one a curve
-    /// already passes through)
-    pub skip: &'a (dyn Fn(f64, f64) -> bool + Sync),
+    /// what to continue from the diagram's points: its folds, its flips (symmetry-breaking
+    /// and period-doubling points), or both
+    pub kinds: &'a [TrackKind],
+    /// `skip(kind, speed m/s, amplitude m)`: a point of the diagram not to follow (one a
+    /// curve of that kind already passes through)
+    pub skip: &'a (dyn Fn(TrackKind, f64, f64) -> bool + Sync),
     /// called once per fold curve when it is done, with the curve and its wall time (s)
     pub done: Option<&'a Done<'a>>,
 }
@@ -166,9 +187,11 @@ pub struct FoldSpecial {
     pub located: bool,
 }
 
-/// A fold of cycles of the diagram continued over the key.
+/// A fold (or flip) of cycles of the diagram continued over the key.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FoldTrack {
+    /// what the curve continues
+    pub kind: TrackKind,
     /// the branch of the diagram it starts on (its id in `branch.csv`)
     pub branch: usize,
     /// that branch's kind
@@ -248,6 +271,8 @@ struct FoldSystem<'a, const N: usize> {
     grid: Vec<f64>,
     /// relative difference step
     eps: f64,
+    /// the test matrix: the fold's or the flip's
+    kind: TrackKind,
 }
 
 /// Follows every located fold of `runs` over `track`'s key range.
@@ -268,24 +293,31 @@ pub(super) fn follow<const N: usize>(
         .min(track.first);
     let high = grid.last().copied().unwrap_or(track.first).max(track.first);
     let mut jobs = Vec::new();
-    for run in runs.iter() {
-        for sp in run.branch.special.iter() {
-            // a fold the diagram only bracketed is a start too: the fold system's Newton
-            // locates it (or says why not, in a note)
-            if sp.kind != SpecialKind::Fold
-                || sp.amplitude < MIN_FOLD_AMPLITUDE
-                || (track.skip)(sp.orbit.param, sp.amplitude)
-            {
-                continue;
+    for &kind in track.kinds {
+        for run in runs.iter() {
+            for sp in run.branch.special.iter() {
+                let wanted = match kind {
+                    TrackKind::Fold => SpecialKind::Fold,
+                    TrackKind::Flip if run.symmetric => SpecialKind::SymmetryBreaking,
+                    TrackKind::Flip => SpecialKind::PeriodDoubling,
+                };
+                // a fold the diagram only bracketed is a start too: the fold system's Newton
+                // locates it (or says why not, in a note)
+                if sp.kind != wanted
+                    || sp.amplitude < MIN_FOLD_AMPLITUDE
+                    || (track.skip)(kind, sp.orbit.param, sp.amplitude)
+                {
+                    continue;
+                }
+                jobs.push((run, sp.orbit, kind));
             }
-            jobs.push((run, sp.orbit));
         }
     }
     // one fold at a time (each curve's sides and differences run in parallel): a fold of the
     // diagram that an earlier curve passed through (round a cusp) is not followed again
     let mut tracks: Vec<FoldTrack> = Vec::new();
-    for (run, orbit) in jobs {
-        let on_known = tracks.iter().any(|t| {
+    for (run, orbit, kind) in jobs {
+        let on_known = tracks.iter().filter(|t| t.kind == kind).any(|t| {
             t.points.iter().any(|p| {
                 p.parameter == track.first
                     && (p.speed_m_s - orbit.param).abs() <= 1e-4 * orbit.param.abs()
@@ -305,6 +337,7 @@ pub(super) fn follow<const N: usize>(
             bounds: (low, high),
             grid: grid.clone(),
             eps: setup.opts.rtol.sqrt().max(1e-7),
+            kind,
         };
         let id = runs
             .iter()
@@ -314,11 +347,11 @@ pub(super) fn follow<const N: usize>(
         // the same fold reached from two branches of the diagram (its estimate there may
         // differ from the solved fold by more than the test above allows)
         let known = |speed: f64| {
-            tracks.iter().any(|t| {
+            tracks.iter().filter(|t| t.kind == kind).any(|t| {
                 t.points.iter().any(|p| {
                     p.parameter == track.first && (p.speed_m_s - speed).abs() <= 1e-7 * speed
                 })
-            }) || (track.skip)(speed, 0.0)
+            }) || (track.skip)(kind, speed, 0.0)
         };
         let Some(curve) = system.curve(id, &orbit, track.first, &known) else {
             continue;
@@ -379,23 +412,42 @@ fn crossing_value(kind: FoldSpecialKind, f: &Floquet) -> f64 {
     }
 }
 
-/// The N × N block and one column of a linearisation, with the phase row: A of the module's
-/// documentation, bordered.
-fn bordered<const N: usize>(
+/// A of the module's documentation for `kind`: the fold's N × N block and one column of a
+/// linearisation with the phase row ((N + 1) × (N + 1)), or the flip's Φ ∓ I (N × N).
+fn test_matrix<const N: usize>(
+    kind: TrackKind,
+    symmetric: bool,
     lin: &Linearised<N>,
     fr: &SVector<f64, N>,
-    border: &Border,
 ) -> DMatrix<f64> {
-    let n1 = N + 1;
-    let mut m = DMatrix::zeros(N + 2, N + 2);
-    m.view_mut((0, 0), (N, n1))
-        .copy_from(&lin.jacobian.columns(0, n1));
-    for i in 0..N {
-        m[(N, i)] = fr[i];
+    match kind {
+        TrackKind::Fold => {
+            let mut a = DMatrix::zeros(N + 1, N + 1);
+            a.view_mut((0, 0), (N, N + 1))
+                .copy_from(&lin.jacobian.columns(0, N + 1));
+            for i in 0..N {
+                a[(N, i)] = fr[i];
+            }
+            a
+        }
+        TrackKind::Flip => {
+            // the half-period map's ν = −1 is Φ's +1; the full period's μ = −1 is Φ's −1
+            let shift = if symmetric { -1.0 } else { 1.0 };
+            DMatrix::from_fn(N, N, |i, j| {
+                lin.monodromy[(i, j)] + if i == j { shift } else { 0.0 }
+            })
+        }
     }
-    for i in 0..n1 {
-        m[(i, n1)] = border.b[i];
-        m[(n1, i)] = border.c[i];
+}
+
+/// `a` bordered by `border` (b as the last column, cᵀ as the last row).
+fn bordered(a: &DMatrix<f64>, border: &Border) -> DMatrix<f64> {
+    let n = a.nrows();
+    let mut m = DMatrix::zeros(n + 1, n + 1);
+    m.view_mut((0, 0), (n, n)).copy_from(a);
+    for i in 0..n {
+        m[(i, n)] = border.b[i];
+        m[(n, i)] = border.c[i];
     }
     m
 }
@@ -440,6 +492,15 @@ struct Corrected<const N: usize> {
 impl<const N: usize> FoldSystem<'_, N> {
     fn p(u: &DVector<f64>) -> f64 {
         u[N + 2]
+    }
+
+    /// What the curve's points are, in messages.
+    fn what(&self) -> &'static str {
+        match (self.kind, self.run.symmetric) {
+            (TrackKind::Fold, _) => "fold",
+            (TrackKind::Flip, true) => "symmetry-breaking point",
+            (TrackKind::Flip, false) => "period doubling",
+        }
     }
 
     fn shooting<'m>(&self, model: &'m Vehicle) -> Shooting<'m, N, Vehicle> {
@@ -601,15 +662,18 @@ impl<const N: usize> FoldSystem<'_, N> {
             let model = self.model(Self::p(&u))?;
             let lin = self.linearise(&model, &u, last_seed.as_ref())?;
             let singular = "the bordered fold matrix is singular";
-            let (mut g, mut v, mut w) =
-                fold_value(&bordered(&lin, &fr, &border)).ok_or(singular)?;
+            let a_test = test_matrix(self.kind, self.run.symmetric, &lin, &fr);
+            let (mut g, mut v, mut w) = fold_value(&bordered(&a_test, &border)).ok_or(singular)?;
             if reset {
                 if let (Some(b), Some(c)) = (unit(w.clone()), unit(v.clone())) {
                     border = Border { b, c };
-                    (g, v, w) = fold_value(&bordered(&lin, &fr, &border)).ok_or(singular)?;
+                    (g, v, w) = fold_value(&bordered(&a_test, &border)).ok_or(singular)?;
                 }
                 reset = false;
             }
+            // a flip's null vector has no period component
+            v = v.resize_vertically(N + 1, 0.0);
+            w = w.resize_vertically(N + 1, 0.0);
             let (gp, grad) = self.differences(&model, &u, (&v, &w))?;
             let mut a = DMatrix::zeros(N + 3, N + 3);
             let mut rhs = DVector::zeros(N + 3);
@@ -737,6 +801,7 @@ impl<const N: usize> FoldSystem<'_, N> {
         known: &dyn Fn(f64) -> bool,
     ) -> Option<FoldTrack> {
         let lost = |why: String| FoldTrack {
+            kind: self.kind,
             branch,
             branch_kind: self.run.kind,
             points: Vec::new(),
@@ -747,7 +812,8 @@ impl<const N: usize> FoldSystem<'_, N> {
             Ok(s) => s,
             Err(e) => {
                 return Some(lost(format!(
-                    "the diagram's fold could not be solved as a fold of the extended system: {e}"
+                    "the diagram's {what} could not be solved on the extended system: {e}",
+                    what = self.what()
                 )))
             }
         };
@@ -764,6 +830,7 @@ impl<const N: usize> FoldSystem<'_, N> {
         let mut special: Vec<FoldSpecial> = back_special.into_iter().rev().collect();
         special.extend(fore_special);
         Some(FoldTrack {
+            kind: self.kind,
             branch,
             branch_kind: self.run.kind,
             points: back_points,
@@ -782,12 +849,7 @@ impl<const N: usize> FoldSystem<'_, N> {
         // the borders: A's singular vectors of its smallest singular value
         let xr: SVector<f64, N> = orbit.x0;
         let fr = model.rhs(&xr, orbit.param);
-        let mut a = DMatrix::zeros(N + 1, N + 1);
-        a.view_mut((0, 0), (N, N + 1))
-            .copy_from(&lin.jacobian.columns(0, N + 1));
-        for i in 0..N {
-            a[(N, i)] = fr[i];
-        }
+        let a = test_matrix(self.kind, self.run.symmetric, &lin, &fr);
         let svd = a.svd(true, true);
         let k = svd
             .singular_values
@@ -857,7 +919,8 @@ impl<const N: usize> FoldSystem<'_, N> {
                     ""
                 };
                 break format!(
-                    "no fold could be solved beyond key value {} ({:.4} m/s, {:.3} mm): {last_error}{near}",
+                    "no {} could be solved beyond key value {} ({:.4} m/s, {:.3} mm): {last_error}{near}",
+                    self.what(),
                     Self::p(&a.u),
                     a.u[N + 1],
                     a.amplitude * 1e3
@@ -947,12 +1010,14 @@ impl<const N: usize> FoldSystem<'_, N> {
                 ds *= 0.5;
                 continue;
             }
-            // a turn in the key between a and c: a cusp
-            if a.tangent[N + 2] * c.tangent[N + 2] < 0.0 {
+            // a turn in the key between a and c: a cusp (on a fold curve; the flips' turns and
+            // crossings are not classified)
+            let fold = self.kind == TrackKind::Fold;
+            if fold && a.tangent[N + 2] * c.tangent[N + 2] < 0.0 {
                 special.push(self.locate(&a, &c, ds, FoldSpecialKind::Cusp));
             }
             let (ca, cc) = (census(&a.floquet), census(&c.floquet));
-            if (ca.0 + cc.0) % 2 == 1 {
+            if fold && (ca.0 + cc.0) % 2 == 1 {
                 let kind = if self.run.symmetric {
                     FoldSpecialKind::FoldSymmetryBreaking
                 } else {
@@ -960,7 +1025,7 @@ impl<const N: usize> FoldSystem<'_, N> {
                 };
                 special.push(self.locate(&a, &c, ds, kind));
             }
-            if ca.1 != cc.1 && ca.0 == cc.0 {
+            if fold && ca.1 != cc.1 && ca.0 == cc.0 {
                 special.push(self.locate(&a, &c, ds, FoldSpecialKind::FoldTorus));
             }
             out.extend(grid_points);
@@ -991,7 +1056,8 @@ impl<const N: usize> FoldSystem<'_, N> {
                 || c.u[N + 1] > self.setup.params.param_range.1
             {
                 Some(format!(
-                    "the fold leaves the speed range ({:.3} m/s)",
+                    "the {} leaves the speed range ({:.3} m/s)",
+                    self.what(),
                     c.u[N + 1]
                 ))
             } else {

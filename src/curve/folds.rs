@@ -3,7 +3,9 @@
 //! solutions of the fold system (`crate::bifurcation::fold_track`), and V_NL at each grid value
 //! from the folds and the supercritical V_H.
 
-use crate::bifurcation::fold_track::{FoldSpecial, FoldSpecialKind, FoldTrack, FoldTracking};
+use crate::bifurcation::fold_track::{
+    FoldSpecial, FoldSpecialKind, FoldTrack, FoldTracking, TrackKind,
+};
 use crate::bifurcation::{self, BranchKind, Hooks};
 use crate::stability::HopfKind;
 
@@ -58,12 +60,27 @@ fn split(spec: &CurveSpec, own: Option<f64>, grid: &[f64]) -> (f64, Vec<f64>, Ve
     (seed, fore, back)
 }
 
-fn label(kind: BranchKind) -> &'static str {
-    match kind {
-        BranchKind::Symmetric => "fold (symmetric)",
-        BranchKind::Asymmetric => "fold (asymmetric)",
-        BranchKind::Period(_) => "fold (doubled)",
+/// The curve kind and label of a track: a fold of cycles of the branch's kind, or a flip,
+/// which is a symmetry-breaking point on a symmetric branch and a period doubling else.
+fn kind_and_label(t: &FoldTrack) -> (CurveKind, &'static str) {
+    match (t.kind, t.branch_kind) {
+        (TrackKind::Fold, BranchKind::Symmetric) => (CurveKind::Fold, "fold (symmetric)"),
+        (TrackKind::Fold, BranchKind::Asymmetric) => (CurveKind::Fold, "fold (asymmetric)"),
+        (TrackKind::Fold, BranchKind::Period(_)) => (CurveKind::Fold, "fold (doubled)"),
+        (TrackKind::Flip, BranchKind::Symmetric) => {
+            (CurveKind::SymmetryBreaking, "symmetry breaking")
+        }
+        (TrackKind::Flip, BranchKind::Asymmetric) => {
+            (CurveKind::PeriodDoubling, "period doubling (asymmetric)")
+        }
+        (TrackKind::Flip, BranchKind::Period(_)) => {
+            (CurveKind::PeriodDoubling, "period doubling (doubled)")
+        }
     }
+}
+
+fn label(t: &FoldTrack) -> &'static str {
+    kind_and_label(t).1
 }
 
 /// Adds the fold curves of `study` to `report`, and V_NL against the key.
@@ -81,6 +98,15 @@ pub(super) fn fold_curves(
     };
     let grid = values(spec);
     let own = study.own_value();
+    let mut kinds = Vec::new();
+    if spec.curves.contains(&CurveKind::Fold) {
+        kinds.push(TrackKind::Fold);
+    }
+    if spec.curves.contains(&CurveKind::SymmetryBreaking)
+        || spec.curves.contains(&CurveKind::PeriodDoubling)
+    {
+        kinds.push(TrackKind::Flip);
+    }
     // the diagrams: at the study's own value (else `from`), then at `seed_points` values of
     // the grid, each following only the folds no curve passes through yet
     let n = grid.len();
@@ -120,12 +146,15 @@ pub(super) fn fold_curves(
         opts.rtol = spec.rtol;
         let model_at = |v: f64| study.model_at(v).map_err(|e| e.to_string());
         let known = report.curves[start..].to_vec();
-        let skip = |speed: f64, _amplitude: f64| {
-            known.iter().any(|c| {
-                c.points
-                    .iter()
-                    .any(|p| p.parameter == first && (p.speed_m_s - speed).abs() <= 1e-4 * speed)
-            })
+        let skip = |kind: TrackKind, speed: f64, _amplitude: f64| {
+            known
+                .iter()
+                .filter(|c| (c.kind == CurveKind::Fold) == (kind == TrackKind::Fold))
+                .any(|c| {
+                    c.points.iter().any(|p| {
+                        p.parameter == first && (p.speed_m_s - speed).abs() <= 1e-4 * speed
+                    })
+                })
         };
         let done = |t: &FoldTrack, seconds: f64| {
             let (lo, hi) = t
@@ -137,7 +166,7 @@ pub(super) fn fold_curves(
             if t.points.is_empty() {
                 say(&format!(
                     "  {} not followed: {} ({seconds:.1} s)",
-                    label(t.branch_kind),
+                    label(t),
                     t.stops.0
                 ));
                 return;
@@ -145,7 +174,7 @@ pub(super) fn fold_curves(
             let at = t.points.iter().find(|p| p.parameter == first);
             say(&format!(
                 "  {} from {}: {} points over {} in [{}, {}] ({seconds:.1} s)",
-                label(t.branch_kind),
+                label(t),
                 at.map_or("the diagram".into(), |p| format!(
                     "{:.3} m/s, {:.3} mm",
                     p.speed_m_s,
@@ -162,6 +191,7 @@ pub(super) fn fold_curves(
             back: &back,
             first,
             model_at: &model_at,
+            kinds: &kinds,
             skip: &skip,
             done: Some(&done),
         };
@@ -189,10 +219,14 @@ pub(super) fn fold_curves(
         ));
         report.stats.models_built += fore.len() + back.len() + 1;
         for t in &tracks {
+            if !spec.curves.contains(&kind_and_label(t).0) {
+                // a period doubling when only symmetry breaking was asked, or the reverse
+                continue;
+            }
             if t.points.is_empty() {
                 report.notes.push(format!(
                     "a {} of the diagram at {} was not followed: {}",
-                    label(t.branch_kind),
+                    label(t),
                     spec.show(first),
                     t.stops.0
                 ));
@@ -206,7 +240,13 @@ pub(super) fn fold_curves(
         }
     }
     let first = first_seed.unwrap_or(spec.range.0);
-    if report.curves.len() == start {
+    if !spec.curves.contains(&CurveKind::Fold) {
+        return Ok(());
+    }
+    if !report.curves[start..]
+        .iter()
+        .any(|c| c.kind == CurveKind::Fold)
+    {
         report.notes.push(format!(
             "no located fold of cycles in the diagrams at {diagrams} values of {} (the study's own and {k} of the fold grid): no fold curve",
             spec.key
@@ -254,16 +294,17 @@ fn curve(t: &FoldTrack, law: crate::contact::creep::CreepLaw, first: f64) -> Cur
             first_lyapunov_error: None,
             hopf_type: None,
             stable_side: StableSide::Neither,
-            stable_cycle: Some(p.stable_side),
+            // (a flip's other multipliers say nothing of a cycle ending there)
+            stable_cycle: (t.kind == TrackKind::Fold).then_some(p.stable_side),
         })
         .collect();
     let end = |message: &String| CurveStop::Lost {
         message: message.clone(),
     };
     Curve {
-        kind: CurveKind::Fold,
+        kind: kind_and_label(t).0,
         creep_law: law,
-        label: label(t.branch_kind),
+        label: label(t),
         points,
         stops: (end(&t.stops.0), end(&t.stops.1)),
         seed_parameter: first,

@@ -49,6 +49,7 @@ pub fn analyse_with_progress(
         notes: Vec::new(),
         stats: CurveStats::default(),
     };
+    let mut cycles_done = false;
     for kind in &spec.curves {
         match kind {
             CurveKind::Hopf => {
@@ -62,11 +63,16 @@ pub fn analyse_with_progress(
                     ));
                 }
             }
-            CurveKind::Fold => {
-                super::folds::fold_curves(study, spec, cancel, progress, &mut report)?
+            // the folds and the flips (symmetry breaking, period doubling) of cycles: from the
+            // same diagrams, in one pass
+            CurveKind::Fold | CurveKind::SymmetryBreaking | CurveKind::PeriodDoubling => {
+                if !cycles_done {
+                    super::folds::fold_curves(study, spec, cancel, progress, &mut report)?;
+                    cycles_done = true;
+                }
             }
             other => report.notes.push(format!(
-                "\"{}\" curves are not available yet: nothing was continued for them (the Hopf and fold curves are)",
+                "\"{}\" curves are not available yet: nothing was continued for them (the Hopf, fold, symmetry-breaking and period-doubling curves are)",
                 other.name()
             )),
         }

@@ -107,6 +107,27 @@ pub fn curve(r: &CurveReport) -> Rendered {
             style: Style::Line { dashed: true },
         });
     }
+    // the flips of cycles: where asymmetric (symmetry breaking) or doubled (period doubling)
+    // cycles branch off, dotted, one line per kind
+    for (kind, name) in [
+        (CurveKind::SymmetryBreaking, "symmetry breaking of cycles"),
+        (CurveKind::PeriodDoubling, "period doubling of cycles"),
+    ] {
+        let mut points: Vec<(f64, f64)> = Vec::new();
+        for c in r.curves.iter().filter(|c| c.kind == kind) {
+            if !points.is_empty() {
+                points.push((f64::NAN, f64::NAN));
+            }
+            points.extend(c.points.iter().map(|p| (p.parameter, p.speed_m_s)));
+        }
+        if !points.is_empty() {
+            fig.series.push(Series {
+                name: name.into(),
+                points,
+                style: Style::Line { dashed: true },
+            });
+        }
+    }
     if !r.nonlinear_critical_speed.is_empty() {
         fig.series.push(Series {
             name: "V_NL (lowest stable-side fold, or supercritical V_H)".into(),
