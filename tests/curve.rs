@@ -65,6 +65,24 @@ fn rewritten(name: &str, key: &str, value: f64) -> Source {
     rewritten_with(name, key, value, None)
 }
 
+/// The study file `name` with `[curve]` settings added or replaced.
+fn with_curve(name: &str, settings: &[(&str, toml::Value)]) -> Source {
+    let text = std::fs::read_to_string(studies().join(name)).expect("study");
+    let mut table: toml::Table = toml::from_str(&text).expect("toml");
+    let curve = table
+        .get_mut("curve")
+        .and_then(|c| c.as_table_mut())
+        .expect("[curve]");
+    for (k, v) in settings {
+        curve.insert((*k).into(), v.clone());
+    }
+    Source {
+        text: toml::to_string(&table).expect("toml"),
+        origin: format!("{name} with curve settings {settings:?}"),
+        folder: Some(studies()),
+    }
+}
+
 /// The curves of a shipped study, computed once per test binary (several tests read them).
 fn curves(name: &str) -> CurveReport {
     use std::collections::HashMap;
@@ -187,25 +205,19 @@ fn cubic_fold_fold_curve_equals_whole_diagrams() {
 fn dtu_bogie_symmetry_breaking_curve_equals_whole_diagrams() {
     let name = "dtu-cooperrider-bogie.toml";
     let key = "secondary.yaw_damping";
-    let text = std::fs::read_to_string(studies().join(name)).expect("study");
-    let mut table: toml::Table = toml::from_str(&text).expect("toml");
-    let curve = table
-        .get_mut("curve")
-        .and_then(|c| c.as_table_mut())
-        .expect("[curve]");
-    curve.insert(
-        "curves".into(),
-        toml::Value::Array(vec![toml::Value::String("symmetry_breaking".into())]),
-    );
     // at the curves' default tolerance (1e-8) the speeds agree to about 1e-6 only (the worst
     // of these 8 points: 1.04e-6): unlike a fold's, a flip's speed is not stationary along the
     // branch, so the integration noise in Φ moves it to first order; at 1e-10 to 2e-8
-    curve.insert("rtol".into(), toml::Value::Float(1e-10));
-    let source = Source {
-        text: toml::to_string(&table).expect("toml"),
-        origin: format!("{name} with curve.curves = [\"symmetry_breaking\"]"),
-        folder: Some(studies()),
-    };
+    let source = with_curve(
+        name,
+        &[
+            (
+                "curves",
+                toml::Value::Array(vec![toml::Value::String("symmetry_breaking".into())]),
+            ),
+            ("rtol", toml::Value::Float(1e-10)),
+        ],
+    );
     let study = api::curve::curve_study(&source).expect("curve study");
     let r = api::curve::curve(&study, None).expect("curves");
     assert!(
@@ -262,27 +274,70 @@ fn dtu_bogie_symmetry_breaking_curve_equals_whole_diagrams() {
     }
 }
 
+/// `curve.attractors = true` on the cubic-fold study: the attractor search (an independent
+/// method: simulation from many starts, no continuation) runs on the study rewritten at every
+/// value of the fold grid where V_NL is given or unknown. Where the continuation gives V_NL,
+/// the search's lowest hunting attractor dies there (within its bracket widened by the
+/// bracket's width), so V_NL stays the continuation's; where the continuation gives none (the
+/// cycles beyond the study's 12 mm amplitude bound), V_NL is the search's and says so.
+#[test]
+fn the_attractor_search_confirms_v_nl_at_every_value_of_the_key() {
+    let source = with_curve(
+        "cubic-fold.toml",
+        &[("attractors", toml::Value::Boolean(true))],
+    );
+    let study = api::curve::curve_study(&source).expect("curve study");
+    let r = api::curve::curve(&study, None).expect("curves");
+    use critspeed::curve::VnlMethod;
+    let known: Vec<_> = r
+        .attractor_search
+        .iter()
+        .filter(|a| a.continuation_m_s.is_finite())
+        .collect();
+    assert!(known.len() >= 8, "{} V_NL values", known.len());
+    assert_eq!(
+        r.attractor_search.len(),
+        known.len() + r.nonlinear_unknown.len()
+    );
+    assert_eq!(r.nonlinear_methods.len(), r.nonlinear_critical_speed.len());
+    for a in &r.attractor_search {
+        assert!(a.error.is_none(), "{a:?}");
+        let at = r
+            .nonlinear_critical_speed
+            .iter()
+            .position(|e| e.0 == a.parameter);
+        if a.continuation_m_s.is_finite() {
+            // where both give V_NL they agree, and V_NL is the continuation's
+            let (lo, hi) = a.bracket_m_s.expect("a death bracket");
+            let (v, w) = (a.continuation_m_s, hi - lo);
+            assert!(v > lo - w && v < hi + w, "{a:?}");
+            let i = at.expect("V_NL at a searched value");
+            assert_eq!(r.nonlinear_critical_speed[i].1, v);
+            assert_eq!(r.nonlinear_methods[i], VnlMethod::Continuation);
+        } else if let Some(speed) = a.search_m_s {
+            // where the continuation gives none, V_NL is the search's, said so
+            let i = at.expect("V_NL where the search found hunting");
+            assert_eq!(r.nonlinear_critical_speed[i].1, speed);
+            assert_eq!(r.nonlinear_methods[i], VnlMethod::AttractorSearch);
+        } else {
+            assert!(at.is_none(), "{a:?}");
+        }
+    }
+    let agree = format!("at {0} of the {0} values where both", known.len());
+    assert!(r.notes.iter().any(|m| m.contains(&agree)), "{:?}", r.notes);
+}
+
 /// The fold curves' default integrator tolerance (1e-8) against a 100 times tighter one: V_NL
 /// at every value of the cubic-fold study's grid moves by less than 1e-7 relative (Newton's
 /// tolerance 10 rtol bounds it from above; the difference is the integration error).
 #[test]
 fn v_nl_curve_converges_as_the_tolerance_is_tightened() {
-    let path = studies().join("cubic-fold.toml");
-    let text = std::fs::read_to_string(&path).expect("study");
     let v_nl = |rtol: Option<f64>| {
-        let mut table: toml::Table = toml::from_str(&text).expect("toml");
-        if let Some(r) = rtol {
-            let curve = table
-                .get_mut("curve")
-                .and_then(|c| c.as_table_mut())
-                .expect("[curve]");
-            curve.insert("rtol".into(), toml::Value::Float(r));
-        }
-        let source = Source {
-            text: toml::to_string(&table).expect("toml"),
-            origin: format!("cubic-fold.toml with curve.rtol = {rtol:?}"),
-            folder: Some(studies()),
-        };
+        let settings: Vec<(&str, toml::Value)> = rtol
+            .map(|r| ("rtol", toml::Value::Float(r)))
+            .into_iter()
+            .collect();
+        let source = with_curve("cubic-fold.toml", &settings);
         let study = api::curve::curve_study(&source).expect("curve study");
         api::curve::curve(&study, None)
             .expect("curves")
@@ -668,6 +723,11 @@ fn bad_curve_input_is_refused_naming_key_value_and_rule() {
             "[curve]\nkey = \"suspension.lateral_stiffness\"\nfrom = \"100 N/mm\"\nto = \"300 N/mm\"\ncurves = [\"hopf\", \"folds\"]\n",
             2,
             &["curve.curves[1]", "\"folds\"", "is not one of"][..],
+        ),
+        (
+            "[curve]\nkey = \"suspension.lateral_stiffness\"\nfrom = \"100 N/mm\"\nto = \"300 N/mm\"\nrtol = 1e-3\n",
+            2,
+            &["curve.rtol", "0.001", "must lie in [1e-12, 1e-6]"][..],
         ),
         (
             "[curve]\nkey = \"suspension.lateral_stiffness\"\nfrom = \"100 N/mm\"\nto = \"300 N/mm\"\nspeed_range = [\"1 m/s\", \"20 m/s\"]\n",

@@ -5,7 +5,7 @@ use anyhow::anyhow;
 use super::files::Output;
 use super::{compute, user, Cancel, Failure, Kind, Source};
 use crate::curve::keyed::KeyedStudy;
-use crate::curve::{CurveError, CurveKind, CurveReport, CurveSpec};
+use crate::curve::{CurveError, CurveKind, CurveReport, CurveSpec, SearchAt, VnlMethod};
 use crate::study::schema::{CurveSection, Quantity};
 use crate::sweep::{Spacing, SweepStudy};
 
@@ -66,12 +66,177 @@ pub fn curve_with_progress(
     cancel: Cancel<'_>,
     progress: Option<&(dyn Fn(&str) + Sync)>,
 ) -> Result<CurveReport, Failure> {
-    let report = crate::curve::analyse_with_progress(&study.keyed, &study.spec, cancel, progress)
-        .map_err(failure)?;
+    let mut report =
+        crate::curve::analyse_with_progress(&study.keyed, &study.spec, cancel, progress)
+            .map_err(failure)?;
+    if study.spec.attractors {
+        search_at_values(study, &mut report, cancel, progress);
+    }
     if cancel.is_some_and(|c| c()) {
         return Err(compute(anyhow!("curve continuation cancelled")));
     }
     Ok(report)
+}
+
+/// How the attractor search's V_NL compares with the continuation's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Verdict {
+    /// the continuation's value lies in the search's death bracket widened by its width
+    Agree,
+    /// the search finds hunting below that
+    SearchLower,
+    /// the search's lowest attractor dies above it
+    SearchHigher,
+}
+
+/// The continuation's V_NL `v` against the search's lowest hunting speed `speed` and the
+/// bracket its attractor dies in (m/s): they agree when `v` lies in the bracket widened on
+/// each side by its width (at least 1e-9 relative), as `tests/attractors.rs` compares them.
+fn judge(v: f64, speed: f64, bracket: Option<(f64, f64)>) -> Verdict {
+    let (lo, hi) = bracket.unwrap_or((speed, speed));
+    let width = (hi - lo).max(1e-9 * speed.abs());
+    if v < lo - width {
+        Verdict::SearchHigher
+    } else if v > hi + width {
+        Verdict::SearchLower
+    } else {
+        Verdict::Agree
+    }
+}
+
+/// The attractor search (`critspeed attractors`: the study's `[attractors]` section or its
+/// defaults) on the study rewritten at every V_NL value of `report`. Where it finds a hunting
+/// attractor alive below the curves' V_NL (below its death bracket's lower end, by more than
+/// the bracket's width), V_NL there becomes the search's and says so; every disagreement, and
+/// every failed search, is a note in words; the agreements are counted in one.
+fn search_at_values(
+    study: &CurveStudy,
+    report: &mut CurveReport,
+    cancel: Cancel<'_>,
+    progress: Option<&(dyn Fn(&str) + Sync)>,
+) {
+    let say = |line: &str| {
+        if let Some(p) = progress {
+            p(line)
+        }
+    };
+    let spec = &study.spec;
+    let along = |a: &f64, b: &f64| ((a - b) * (spec.range.1 - spec.range.0)).total_cmp(&0.0);
+    // every value V_NL is given at, and those where the continuation could not give it
+    let mut values: Vec<(f64, f64)> = report.nonlinear_critical_speed.clone();
+    values.extend(report.nonlinear_unknown.iter().map(|&p| (p, f64::NAN)));
+    values.sort_by(|a, b| along(&a.0, &b.0));
+    let mut found_at: Vec<(f64, f64, VnlMethod)> = Vec::new();
+    let mut agree = 0;
+    for &(p, v) in &values {
+        if cancel.is_some_and(|c| c()) {
+            break;
+        }
+        let started = std::time::Instant::now();
+        let found = study
+            .keyed
+            .plan_at(p)
+            .map_err(|e| e.to_string())
+            .and_then(|plan| super::Prepared::new(plan).map_err(|e| e.message()))
+            .and_then(|prepared| {
+                let hooks = super::Hooks {
+                    progress: None,
+                    cancel,
+                };
+                super::attractors(&prepared, hooks, None).map_err(|e| e.message())
+            });
+        let mut at = SearchAt {
+            parameter: p,
+            continuation_m_s: v,
+            search_m_s: None,
+            bracket_m_s: None,
+            error: None,
+        };
+        let place = spec.show(p);
+        let known = v.is_finite();
+        let continuation = format!("the continuation's V_NL {v:.3} m/s");
+        match found {
+            Err(e) => {
+                report
+                    .notes
+                    .push(format!("the attractor search at {place} failed: {e}"));
+                at.error = Some(e);
+            }
+            Ok((a, _)) => match a.nonlinear_critical_speed {
+                None if known => report.notes.push(format!(
+                    "at {place} the attractor search found no hunting attractor in its speed range, against {continuation}: the continuation's value stands (a start the search's grid misses, or an attractor above its range)"
+                )),
+                None => report.notes.push(format!(
+                    "at {place} neither the continuation nor the attractor search gives V_NL (the search found no hunting attractor in its speed range)"
+                )),
+                Some((speed, bracket, _)) => {
+                    at.search_m_s = Some(speed);
+                    at.bracket_m_s = bracket;
+                    let (lo, hi) = bracket.unwrap_or((speed, speed));
+                    match (known, judge(v, speed, bracket)) {
+                        (false, _) => {
+                            report.notes.push(format!(
+                                "at {place} the continuation gives no V_NL; the attractor search finds hunting down to {speed:.3} m/s (it dies in [{lo:.3}, {hi:.3}] m/s): V_NL there is the search's"
+                            ));
+                            found_at.push((p, speed, VnlMethod::AttractorSearch));
+                        }
+                        (true, Verdict::SearchHigher) => report.notes.push(format!(
+                            "at {place} the attractor search's lowest hunting attractor dies in [{lo:.3}, {hi:.3}] m/s, above {continuation}: the continuation's value stands (the search missed that cycle)"
+                        )),
+                        (true, Verdict::SearchLower) => {
+                            report.notes.push(format!(
+                                "at {place} the attractor search finds hunting down to {speed:.3} m/s (it dies in [{lo:.3}, {hi:.3}] m/s), below {continuation}: V_NL there is the search's (an attractor no followed fold bounds)"
+                            ));
+                            found_at.push((p, speed, VnlMethod::AttractorSearch));
+                        }
+                        (true, Verdict::Agree) => agree += 1,
+                    }
+                }
+            },
+        }
+        say(&format!(
+            "  attractor search at {place}: {} ({:.1} s)",
+            match (at.search_m_s, &at.error) {
+                (_, Some(_)) => "failed".to_string(),
+                (Some(s), _) => format!("hunting down to {s:.3} m/s"),
+                (None, _) => "no hunting attractor".to_string(),
+            },
+            started.elapsed().as_secs_f64()
+        ));
+        report.attractor_search.push(at);
+    }
+    // V_NL: the continuation's values, each replaced where the search found hunting lower,
+    // and the search's where the continuation had none
+    let mut merged: Vec<(f64, f64, VnlMethod)> = report
+        .nonlinear_critical_speed
+        .iter()
+        .enumerate()
+        .map(|(i, &(p, v))| {
+            let m = report
+                .nonlinear_methods
+                .get(i)
+                .copied()
+                .unwrap_or(VnlMethod::Continuation);
+            (p, v, m)
+        })
+        .collect();
+    for (p, speed, method) in found_at {
+        match merged.iter_mut().find(|e| e.0 == p) {
+            Some(e) => *e = (p, speed, method),
+            None => merged.push((p, speed, method)),
+        }
+    }
+    merged.sort_by(|a, b| along(&a.0, &b.0));
+    report.nonlinear_critical_speed = merged.iter().map(|e| (e.0, e.1)).collect();
+    report.nonlinear_methods = merged.iter().map(|e| e.2).collect();
+    let compared = report
+        .attractor_search
+        .iter()
+        .filter(|a| a.continuation_m_s.is_finite())
+        .count();
+    report.notes.push(format!(
+        "the attractor search agrees with the continuation's V_NL (within its death bracket, widened by its width) at {agree} of the {compared} values where both were computed"
+    ));
 }
 
 /// `curve.json`, `curve.csv` and `curve.svg`.
@@ -128,5 +293,25 @@ pub fn sweep_curves(study: &SweepStudy) -> (Option<CurveReport>, Vec<String>) {
                 axis.key
             )],
         ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{judge, Verdict};
+
+    #[test]
+    fn the_search_and_the_continuation_agree_within_the_widened_bracket() {
+        // bracket [89.28, 89.35]: width 0.07, so agreement on [89.21, 89.42]
+        let b = Some((89.28, 89.35));
+        assert_eq!(judge(89.34, 89.28, b), Verdict::Agree);
+        assert_eq!(judge(89.41, 89.28, b), Verdict::Agree);
+        assert_eq!(judge(89.22, 89.28, b), Verdict::Agree);
+        assert_eq!(judge(89.43, 89.28, b), Verdict::SearchLower);
+        assert_eq!(judge(124.15, 89.28, b), Verdict::SearchLower);
+        assert_eq!(judge(89.20, 89.28, b), Verdict::SearchHigher);
+        // without a bracket only (nearly) equal speeds agree
+        assert_eq!(judge(50.0, 50.0, None), Verdict::Agree);
+        assert_eq!(judge(50.001, 50.0, None), Verdict::SearchLower);
     }
 }

@@ -121,13 +121,18 @@ pub fn summary(r: &CurveReport) -> String {
         );
     }
     if !r.nonlinear_critical_speed.is_empty() {
-        let _ = writeln!(
-            s,
-            "  V_NL against {} (continuation: the lowest fold with a stable side, or V_H where supercritical; no attractor search, which can find hunting lower):",
-            r.key
-        );
-        for (p, v) in &r.nonlinear_critical_speed {
-            let _ = writeln!(s, "    {} = {p:.6e}: V_NL {v:.4} m/s", r.key);
+        let how = if r.attractor_search.is_empty() {
+            "continuation: the lowest fold with a stable side, or V_H where supercritical; no attractor search, which can find hunting lower"
+        } else {
+            "the lower of the continuation (the lowest fold with a stable side, or V_H where supercritical) and the attractor search at each value"
+        };
+        let _ = writeln!(s, "  V_NL against {} ({how}):", r.key);
+        for (i, (p, v)) in r.nonlinear_critical_speed.iter().enumerate() {
+            let method = r
+                .nonlinear_methods
+                .get(i)
+                .map_or("continuation", |m| m.name());
+            let _ = writeln!(s, "    {} = {p:.6e}: V_NL {v:.4} m/s ({method})", r.key);
         }
     }
     for n in &r.notes {

@@ -106,8 +106,9 @@ pub enum Command {
     /// resumable, optionally one shard: `out/<name>/sweep.csv` and plots.
     Sweep(sweep::SweepArgs),
     /// Critical speeds as curves over the study's `[curve]` key: the Hopf speeds V_L and V_H
-    /// continued in (speed, key), with the first Lyapunov coefficient and the
-    /// codimension-two points (curve.csv, curve.json, curve.svg).
+    /// continued in (speed, key), with the first Lyapunov coefficient, the folds of cycles and
+    /// V_NL (symmetry breaking and period doubling when asked), and the codimension-two points
+    /// (curve.csv, curve.json, curve.svg).
     Curve(curve::CurveArgs),
     /// Join the records files of a sharded sweep into sweep.csv (refuses other studies' files).
     Merge(sweep::MergeArgs),

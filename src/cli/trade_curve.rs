@@ -50,6 +50,8 @@ fn section(file: &StudyFile, axis: &KeyAxis, tp: &TradePlan) -> CurveSection {
         seed_points: own.as_ref().and_then(|c| c.seed_points),
         fold_points: own.as_ref().and_then(|c| c.fold_points),
         rtol: own.as_ref().and_then(|c| c.rtol),
+        // the trade verifies its best design with the sweep's one-point computation instead
+        attractors: None,
     }
 }
 

@@ -431,9 +431,13 @@ fn nonlinear_critical_speed(spec: &CurveSpec, values: &[f64], report: &mut Curve
             }
         }
         report.nonlinear_critical_speed.push((value, v));
+        report
+            .nonlinear_methods
+            .push(super::VnlMethod::Continuation);
         previous = Some((value, v, source));
         previous_curve = best_curve;
     }
+    report.nonlinear_unknown = unknown.clone();
     if !unknown.is_empty() {
         let list: Vec<String> = unknown.iter().map(|&v| spec.show(v)).collect();
         report.notes.push(format!(

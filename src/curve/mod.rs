@@ -319,10 +319,52 @@ pub struct CurveReport {
     /// V_NL against the key: (key value, m/s) at the fold curves' key values: the lowest fold
     /// where a stable cycle branch ends, and V_H where the Hopf point is supercritical
     pub nonlinear_critical_speed: Vec<(f64, f64)>,
+    /// the fold grid's key values where the continuation gives no V_NL (the lowest Hopf point
+    /// subcritical and no stable-side fold followed there), in the key's order
+    pub nonlinear_unknown: Vec<f64>,
+    /// how V_NL was found at each value of `nonlinear_critical_speed`, in its order: by the
+    /// continuation (the curves), or by the attractor search where that found hunting lower
+    pub nonlinear_methods: Vec<VnlMethod>,
+    /// the attractor search at each V_NL value (`curve.attractors = true`; else empty)
+    pub attractor_search: Vec<SearchAt>,
     /// what was asked for and could not be computed, and why
     pub notes: Vec<String>,
     /// solver statistics
     pub stats: CurveStats,
+}
+
+/// How a value of V_NL against the key was found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VnlMethod {
+    /// the lowest stable-side fold of the fold curves, or the supercritical V_H
+    Continuation,
+    /// the attractor search's lowest hunting attractor, below the continuation's value
+    AttractorSearch,
+}
+
+impl VnlMethod {
+    /// The name in `curve.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            VnlMethod::Continuation => "continuation",
+            VnlMethod::AttractorSearch => "attractor search",
+        }
+    }
+}
+
+/// The attractor search of the study rewritten at one V_NL value of the key.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SearchAt {
+    /// the key's value (SI)
+    pub parameter: f64,
+    /// V_NL there from the curves (m/s; NaN where they give none)
+    pub continuation_m_s: f64,
+    /// the lowest speed at which the search found a hunting attractor (m/s), if any
+    pub search_m_s: Option<f64>,
+    /// the speeds between which that attractor dies (m/s)
+    pub bracket_m_s: Option<(f64, f64)>,
+    /// why the search failed, when it did
+    pub error: Option<String>,
 }
 
 /// Why the curves could not be computed.

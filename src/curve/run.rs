@@ -46,6 +46,9 @@ pub fn analyse_with_progress(
         special_points: Vec::new(),
         stable_regions: Vec::new(),
         nonlinear_critical_speed: Vec::new(),
+        nonlinear_unknown: Vec::new(),
+        nonlinear_methods: Vec::new(),
+        attractor_search: Vec::new(),
         notes: Vec::new(),
         stats: CurveStats::default(),
     };

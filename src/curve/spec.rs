@@ -42,6 +42,9 @@ pub struct CurveSpec {
     /// from; default 1e-8 (the bogie's V_NL curve moves by at most 3e-9 relative from 1e-10,
     /// at less than half the cost: docs/curves.md)
     pub rtol: f64,
+    /// run the attractor search (`critspeed attractors`, the study's `[attractors]` section
+    /// or its defaults) on the study rewritten at every V_NL value; default false
+    pub attractors: bool,
 }
 
 impl CurveSpec {
@@ -215,6 +218,7 @@ pub fn resolve(s: &CurveSection, study: &KeyedStudy) -> Result<CurveSpec, CurveE
             Some(r) if (1e-12..=1e-6).contains(&r) => r,
             Some(r) => return Err(rule("curve.rtol", r, "must lie in [1e-12, 1e-6]")),
         },
+        attractors: s.attractors.unwrap_or(false),
     })
 }
 

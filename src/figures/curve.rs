@@ -130,7 +130,11 @@ pub fn curve(r: &CurveReport) -> Rendered {
     }
     if !r.nonlinear_critical_speed.is_empty() {
         fig.series.push(Series {
-            name: "V_NL (lowest stable-side fold, or supercritical V_H)".into(),
+            name: if r.attractor_search.is_empty() {
+                "V_NL (lowest stable-side fold, or supercritical V_H)".into()
+            } else {
+                "V_NL (lowest stable-side fold, supercritical V_H, or the attractor search)".into()
+            },
             points: r.nonlinear_critical_speed.clone(),
             style: Style::Points,
         });

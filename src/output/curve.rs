@@ -62,7 +62,24 @@ pub fn curve_json(r: &CurveReport) -> Value {
     let vnl: Vec<Value> = r
         .nonlinear_critical_speed
         .iter()
-        .map(|(p, v)| json!({"parameter": p, "speed_m_s": v}))
+        .enumerate()
+        .map(|(i, (p, v))| {
+            let method = r.nonlinear_methods.get(i).map(|m| m.name());
+            json!({"parameter": p, "speed_m_s": v, "method": method})
+        })
+        .collect();
+    let search: Vec<Value> = r
+        .attractor_search
+        .iter()
+        .map(|a| {
+            json!({
+                "parameter": a.parameter,
+                "continuation_m_s": a.continuation_m_s,
+                "search_m_s": a.search_m_s,
+                "bracket_m_s": a.bracket_m_s.map(|b| [b.0, b.1]),
+                "error": a.error,
+            })
+        })
         .collect();
     json!({
         "study": r.study,
@@ -76,6 +93,7 @@ pub fn curve_json(r: &CurveReport) -> Value {
         "curves": r.curves.iter().map(curve_json_one).collect::<Vec<_>>(),
         "special_points": special,
         "nonlinear_critical_speed": vnl,
+        "attractor_search": search,
         "notes": r.notes,
         "stats": {
             "models_built": r.stats.models_built,

@@ -410,4 +410,7 @@ pub struct CurveSection {
     /// integrator relative tolerance of the fold curves and their diagrams (default 1e-8)
     #[serde(default)]
     pub rtol: Option<f64>,
+    /// also run the attractor search at every V_NL value of the key (default false)
+    #[serde(default)]
+    pub attractors: Option<bool>,
 }
