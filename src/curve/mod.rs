@@ -333,24 +333,10 @@ pub struct CurveReport {
     pub stats: CurveStats,
 }
 
-/// How a value of V_NL against the key was found.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum VnlMethod {
-    /// the lowest stable-side fold of the fold curves, or the supercritical V_H
-    Continuation,
-    /// the attractor search's lowest hunting attractor, below the continuation's value
-    AttractorSearch,
-}
-
-impl VnlMethod {
-    /// The name in `curve.json`.
-    pub fn name(self) -> &'static str {
-        match self {
-            VnlMethod::Continuation => "continuation",
-            VnlMethod::AttractorSearch => "attractor search",
-        }
-    }
-}
+/// How a value of V_NL against the key was found: by the continuation (here the fold curves,
+/// or the supercritical V_H) or by the attractor search (the same two methods, and names, as
+/// in `critspeed bifurcation` and `critspeed attractors`).
+pub use crate::bifurcation::vnl::VnlMethod;
 
 /// The attractor search of the study rewritten at one V_NL value of the key.
 #[derive(Clone, Debug, PartialEq)]
