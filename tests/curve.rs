@@ -320,7 +320,17 @@ fn the_attractor_search_confirms_v_nl_at_every_value_of_the_key() {
             assert_eq!(r.nonlinear_critical_speed[i].1, speed);
             assert_eq!(r.nonlinear_methods[i], VnlMethod::AttractorSearch);
         } else {
+            // neither method gives V_NL: said in a note, with where the search's simulations
+            // left the contact geometry (on this study at friction 0.5 the motion outgrows the
+            // 18 mm table from about 56 m/s)
             assert!(at.is_none(), "{a:?}");
+            assert!(
+                r.notes
+                    .iter()
+                    .any(|m| m.contains("neither the continuation nor the attractor search")),
+                "{:?}",
+                r.notes
+            );
         }
     }
     let agree = format!("at {0} of the {0} values where both", known.len());

@@ -78,6 +78,28 @@ pub fn curve_with_progress(
     Ok(report)
 }
 
+/// Where the search's simulations left the contact geometry's range (no verdict there: the
+/// motion is large, not absent), as a clause: from the lowest such speed.
+fn left_range(a: &crate::attractors::AttractorReport) -> String {
+    use crate::attractors::MotionKind;
+    let lowest = a
+        .speeds
+        .iter()
+        .filter(|row| {
+            row.outcomes
+                .iter()
+                .any(|o| o.kind == MotionKind::OutOfRange && o.count > 0)
+        })
+        .map(|row| row.speed_m_s)
+        .reduce(f64::min);
+    match lowest {
+        Some(v) => format!(
+            "; but initial states left the contact geometry's range at {v:.2} m/s and above, where it gives no verdict: the motion there is large, not absent"
+        ),
+        None => String::new(),
+    }
+}
+
 /// How the attractor search's V_NL compares with the continuation's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Verdict {
@@ -164,10 +186,12 @@ fn search_at_values(
             }
             Ok((a, _)) => match a.nonlinear_critical_speed {
                 None if known => report.notes.push(format!(
-                    "at {place} the attractor search found no hunting attractor in its speed range, against {continuation}: the continuation's value stands (a start the search's grid misses, or an attractor above its range)"
+                    "at {place} the attractor search found no hunting attractor in its speed range{}, against {continuation}: the continuation's value stands (a start the search's grid misses, or an attractor above its range)",
+                    left_range(&a)
                 )),
                 None => report.notes.push(format!(
-                    "at {place} neither the continuation nor the attractor search gives V_NL (the search found no hunting attractor in its speed range)"
+                    "at {place} neither the continuation nor the attractor search gives V_NL (the search found no hunting attractor in its speed range{})",
+                    left_range(&a)
                 )),
                 Some((speed, bracket, _)) => {
                     at.search_m_s = Some(speed);
