@@ -196,7 +196,7 @@ pub(super) fn fold_curves(
             done: Some(&done),
         };
         say(&format!(
-            "diagram at {} and its folds of cycles",
+            "diagram at {} and the curves of cycles from it",
             spec.show(first)
         ));
         let started = std::time::Instant::now();
@@ -212,7 +212,7 @@ pub(super) fn fold_curves(
             })?;
         diagrams += 1;
         say(&format!(
-            "  diagram at {}: {} new fold curves ({:.1} s with their curves)",
+            "  diagram at {}: {} new curves of cycles ({:.1} s with them)",
             spec.show(first),
             tracks.len(),
             started.elapsed().as_secs_f64()
