@@ -274,6 +274,147 @@ fn dtu_bogie_symmetry_breaking_curve_equals_whole_diagrams() {
     }
 }
 
+/// The torus (Neimark–Sacker) curve of the DTU bogie over yaw damping, checked two
+/// independent ways (curve and diagrams at rtol 1e-10):
+/// 1. against whole diagrams: of 12 of its points spread over it, at each whose cycle lies on
+///    the rewritten study's diagram (which follows only the cycles born at the lowest Hopf
+///    point and their branches; at least 5 do), the diagram has a located torus point of the
+///    same speed to 1e-6 relative and the same amplitude to 1e-4 relative;
+/// 2. against the Hopf curves (the eigenvalue continuation, no shooting): where its amplitude
+///    falls to zero it ends at the V_H curve's double Hopf point, at the same key value and
+///    speed to 1e-4 relative, and its multipliers' angle θ there is the second Hopf mode's
+///    rotation over the half-period map, π(1 + f₂/f₁) mod 2π, to 1e-3 rad.
+#[test]
+fn dtu_bogie_torus_curve_equals_whole_diagrams_and_ends_at_the_double_hopf_point() {
+    let name = "dtu-cooperrider-bogie.toml";
+    let key = "secondary.yaw_damping";
+    let names = ["hopf", "torus"].map(|s| toml::Value::String(s.into()));
+    let source = with_curve(
+        name,
+        &[
+            ("curves", toml::Value::Array(names.to_vec())),
+            ("rtol", toml::Value::Float(1e-10)),
+        ],
+    );
+    let study = api::curve::curve_study(&source).expect("curve study");
+    let r = api::curve::curve(&study, None).expect("curves");
+    let curve = r
+        .curves
+        .iter()
+        .filter(|c| c.kind == CurveKind::Torus)
+        .max_by_key(|c| c.points.len())
+        .expect("a torus curve");
+    assert!(curve
+        .points
+        .iter()
+        .all(|p| p.torus_angle_rad.is_some_and(|t| t.sin().abs() > 0.0)));
+    // 2. the end on the Hopf curve
+    let end = curve
+        .points
+        .iter()
+        .min_by(|a, b| a.amplitude_m.total_cmp(&b.amplitude_m))
+        .expect("points");
+    assert!(end.amplitude_m < 1e-4, "{end:?}");
+    let hh = r
+        .special_points
+        .iter()
+        .filter(|s| s.kind == SpecialKind::DoubleHopf && s.located)
+        .filter(|s| r.curves[s.curve].label == "V_H")
+        .min_by(|a, b| {
+            (a.speed_m_s - end.speed_m_s)
+                .abs()
+                .total_cmp(&(b.speed_m_s - end.speed_m_s).abs())
+        })
+        .expect("a double Hopf point on V_H");
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
+    assert!(
+        rel(end.parameter, hh.parameter) < 1e-4 && rel(end.speed_m_s, hh.speed_m_s) < 1e-4,
+        "torus curve ends at {} N s/m, {} m/s; double Hopf at {} N s/m, {} m/s",
+        end.parameter,
+        end.speed_m_s,
+        hh.parameter,
+        hh.speed_m_s
+    );
+    let f2 = hh.second_frequency_hz.expect("second frequency");
+    let tau = std::f64::consts::TAU;
+    let want = (std::f64::consts::PI * (1.0 + f2 / hh.frequency_hz)).rem_euclid(tau);
+    let theta = end.torus_angle_rad.expect("θ").rem_euclid(tau);
+    let d = (theta - want).abs().min(tau - (theta - want).abs());
+    assert!(
+        d < 1e-3,
+        "θ {theta} rad, from the double Hopf point {want} rad"
+    );
+    // 1. the diagrams, which follow the cycles born at the lowest Hopf point (and their
+    // branches): where the rewritten study's diagram passes through the curve's cycle (a
+    // cycle of its branches brackets the curve point's speed with the same amplitude to 3 %
+    // and frequency to 1 %), it has a located torus point there
+    let points: Vec<_> = curve
+        .points
+        .iter()
+        .filter(|p| p.speed_m_s < 295.0 && p.amplitude_m > 2e-4)
+        .collect();
+    let samples = 12;
+    assert!(points.len() >= samples, "{} points", points.len());
+    let mut checked = 0;
+    let mut worst: (f64, f64) = (0.0, 0.0);
+    for i in 0..samples {
+        let q = points[i * (points.len() - 1) / (samples - 1)];
+        let source = rewritten(name, key, q.parameter);
+        let prepared = Prepared::new(source.plan().expect("plan")).expect("model");
+        let d = api::bifurcation(&prepared, Default::default()).expect("diagram");
+        let on_diagram = d.cycles.windows(2).any(|w| {
+            let (a, b) = (&w[0], &w[1]);
+            let inside = (a.speed_m_s - q.speed_m_s) * (b.speed_m_s - q.speed_m_s) <= 0.0;
+            if a.branch != b.branch || !inside || a.speed_m_s == b.speed_m_s {
+                return false;
+            }
+            let t = (q.speed_m_s - a.speed_m_s) / (b.speed_m_s - a.speed_m_s);
+            let amplitude = a.amplitude_y_m + t * (b.amplitude_y_m - a.amplitude_y_m);
+            let frequency = 1.0 / (a.period_s + t * (b.period_s - a.period_s));
+            rel(amplitude, q.amplitude_m) < 0.03 && rel(frequency, q.frequency_hz) < 0.01
+        });
+        if !on_diagram {
+            continue;
+        }
+        checked += 1;
+        let nearest = d
+            .special
+            .iter()
+            .filter(|s| s.kind == critspeed::continuation::SpecialKind::Torus && s.located)
+            .min_by(|x, y| {
+                (x.speed_m_s - q.speed_m_s)
+                    .abs()
+                    .total_cmp(&(y.speed_m_s - q.speed_m_s).abs())
+            })
+            .unwrap_or_else(|| {
+                panic!(
+                    "no located torus point in the diagram at {key} = {}",
+                    q.parameter
+                )
+            });
+        let dv = rel(nearest.speed_m_s, q.speed_m_s);
+        let da = rel(nearest.amplitude_y_m, q.amplitude_m);
+        worst = (worst.0.max(dv), worst.1.max(da));
+        assert!(
+            dv <= 1e-6 && da <= 1e-4,
+            "{key} = {}: curve {} m/s, {} m; diagram {} m/s, {} m ({dv:.1e}, {da:.1e})",
+            q.parameter,
+            q.speed_m_s,
+            q.amplitude_m,
+            nearest.speed_m_s,
+            nearest.amplitude_y_m
+        );
+    }
+    eprintln!(
+        "{checked} of {samples} torus points on the diagrams; worst {:.1e} in speed, {:.1e} in amplitude",
+        worst.0, worst.1
+    );
+    assert!(
+        checked >= 5,
+        "only {checked} of {samples} points on the diagrams"
+    );
+}
+
 /// `curve.attractors = true` on the cubic-fold study: the attractor search (an independent
 /// method: simulation from many starts, no continuation) runs on the study rewritten at every
 /// value of the fold grid where V_NL is given or unknown. Where the continuation gives V_NL,
@@ -806,10 +947,9 @@ fn curve_command_writes_its_files() {
             .any(|n| n.as_str().is_some_and(|n| n.contains(w)))
     };
     assert!(
-        noted("\"torus\"") && noted("no located fold of cycles"),
+        noted("no \"torus\" curve") && noted("no located fold of cycles"),
         "{notes:?}"
     );
-    assert!(String::from_utf8_lossy(&out.stderr).contains("not available yet"));
     // supercritical everywhere: V_NL is V_H at every fold-grid value (12 by default) and at
     // the study's own 300 N/mm
     let vnl = v["nonlinear_critical_speed"].as_array().expect("V_NL");

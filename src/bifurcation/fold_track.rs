@@ -69,6 +69,14 @@ const TANGENT_STEP: f64 = 1e-7;
 
 const MIN_FOLD_AMPLITUDE: f64 = 2e-5;
 
+/// One scaled unit of a torus curve's angle θ (rad).
+const THETA_UNIT: f64 = 0.05;
+
+/// A torus curve ends where sin θ falls below this: its pair of multipliers on the unit
+/// circle is about to become real (a 1:1 resonance, where it meets a fold curve, or a 1:2
+/// resonance, where it meets a flip curve), and the system degenerates.
+const MIN_SIN_THETA: f64 = 0.01;
+
 /// A fold curve that cannot be continued further with a smaller amplitude (m) ends near a
 /// generalised Hopf point: the fold system degenerates as the amplitude falls to zero.
 const NEAR_HOPF_AMPLITUDE: f64 = 2.5e-4;
@@ -110,6 +118,9 @@ pub enum TrackKind {
     /// a multiplier of the shooting map at −1: symmetry breaking on a symmetric branch,
     /// period doubling on a full-period one
     Flip,
+    /// a complex pair of multipliers of the shooting map on the unit circle, e^{±iθ}
+    /// (Neimark–Sacker: a torus branches off)
+    Torus,
 }
 
 /// A family of models over a design key.
@@ -154,6 +165,9 @@ pub struct FoldTrackPoint {
     pub located: bool,
     /// a user point: the key pinned to a value of the grid
     pub on_grid: bool,
+    /// on a torus curve, the angle θ (rad, in (0, π)) of the shooting map's multipliers
+    /// e^{±iθ} on the unit circle
+    pub angle_rad: Option<f64>,
 }
 
 /// Codimension-two points on a fold curve.
@@ -204,12 +218,35 @@ pub struct FoldTrack {
     pub stops: (String, String),
 }
 
-/// Bordering vectors of the fold condition: `b` ≈ the left and `c` ≈ the right null vector of
-/// A (length N + 1, unit norm).
+/// Bordering vectors of the test condition: `b` ≈ the left and `c` ≈ the right null vector of
+/// A (unit norm), real for the fold and flip, complex (`zb`, `zc`, with `b`, `c` empty) for
+/// the torus.
 #[derive(Clone, Debug)]
 struct Border {
     b: DVector<f64>,
     c: DVector<f64>,
+    zb: DVector<Complex<f64>>,
+    zc: DVector<Complex<f64>>,
+}
+
+impl Border {
+    fn real(b: DVector<f64>, c: DVector<f64>) -> Self {
+        Border {
+            b,
+            c,
+            zb: DVector::zeros(0),
+            zc: DVector::zeros(0),
+        }
+    }
+
+    fn complex(zb: DVector<Complex<f64>>, zc: DVector<Complex<f64>>) -> Self {
+        Border {
+            b: DVector::zeros(0),
+            c: DVector::zeros(0),
+            zb,
+            zc,
+        }
+    }
 }
 
 /// An accepted point of the fold curve.
@@ -226,8 +263,12 @@ struct Point<const N: usize> {
     seed: SegmentSeed<N>,
 }
 
-/// ∂G/∂p (N) and ∇g (N + 3), the corrector's derivative rows beside the linearisation's.
-type Derivs = (DVector<f64>, DVector<f64>);
+/// A complex vector (the torus's null vectors and borders).
+type CVector = DVector<Complex<f64>>;
+
+/// The test function's rows of the corrector: (value, gradient in all unknowns), one row for
+/// the fold and the flip, two (real and imaginary parts) for the torus.
+type TestRows = Vec<(f64, DVector<f64>)>;
 
 /// Where a corrector starts from: the borders, shooting segments and tangent (orientation)
 /// of a nearby point.
@@ -300,6 +341,7 @@ pub(super) fn follow<const N: usize>(
                     TrackKind::Fold => SpecialKind::Fold,
                     TrackKind::Flip if run.symmetric => SpecialKind::SymmetryBreaking,
                     TrackKind::Flip => SpecialKind::PeriodDoubling,
+                    TrackKind::Torus => SpecialKind::Torus,
                 };
                 // a fold the diagram only bracketed is a start too: the fold system's Newton
                 // locates it (or says why not, in a note)
@@ -329,6 +371,9 @@ pub(super) fn follow<const N: usize>(
         let mut scale = setup.params(run.period_factor).scale;
         scale.resize(N + 2, 1.0);
         scale.push(((high - low) / KEY_UNITS).max(f64::MIN_POSITIVE));
+        if kind == TrackKind::Torus {
+            scale.push(THETA_UNIT);
+        }
         let system = FoldSystem {
             setup,
             run,
@@ -430,7 +475,8 @@ fn test_matrix<const N: usize>(
             }
             a
         }
-        TrackKind::Flip => {
+        // (the torus's test matrix is complex, [`torus_matrix`]; it never comes here)
+        TrackKind::Flip | TrackKind::Torus => {
             // the half-period map's ν = −1 is Φ's +1; the full period's μ = −1 is Φ's −1
             let shift = if symmetric { -1.0 } else { 1.0 };
             DMatrix::from_fn(N, N, |i, j| {
@@ -438,6 +484,74 @@ fn test_matrix<const N: usize>(
             })
         }
     }
+}
+
+/// The left and right singular vectors of `a`'s smallest singular value (for a complex `a`,
+/// the right one is the column of V in A = U Σ Vᴴ).
+fn smallest_singular_pair<T: nalgebra::ComplexField<RealField = f64>>(
+    a: DMatrix<T>,
+) -> Option<(DVector<T>, DVector<T>)> {
+    let svd = a.svd(true, true);
+    let k = svd
+        .singular_values
+        .iter()
+        .enumerate()
+        .min_by(|x, y| x.1.total_cmp(y.1))
+        .map(|(k, _)| k)?;
+    let (uu, vt) = (svd.u?, svd.v_t?);
+    Some((uu.column(k).into_owned(), vt.row(k).adjoint()))
+}
+
+/// The torus's test matrix σΦ − e^{iθ} I, σΦ the shooting map's derivative (σ = −1 on a
+/// symmetric branch, whose map is the half period's composed with the symmetry).
+fn torus_matrix<const N: usize>(
+    symmetric: bool,
+    lin: &Linearised<N>,
+    theta: f64,
+) -> DMatrix<Complex<f64>> {
+    let sigma = if symmetric { -1.0 } else { 1.0 };
+    let z = Complex::from_polar(1.0, theta);
+    DMatrix::from_fn(N, N, |i, j| {
+        Complex::new(sigma * lin.monodromy[(i, j)], 0.0) - if i == j { z } else { 0.0.into() }
+    })
+}
+
+/// `a` bordered by the complex borders (zb as the last column, zcᴴ as the last row).
+fn bordered_complex(a: &DMatrix<Complex<f64>>, border: &Border) -> DMatrix<Complex<f64>> {
+    let n = a.nrows();
+    let mut m = DMatrix::zeros(n + 1, n + 1);
+    m.view_mut((0, 0), (n, n)).copy_from(a);
+    for i in 0..n {
+        m[(i, n)] = border.zb.get(i).copied().unwrap_or_default();
+        m[(n, i)] = border.zc.get(i).copied().unwrap_or_default().conj();
+    }
+    m
+}
+
+/// The complex g and the right and left null vectors (v, w) of A from its bordered matrix M:
+/// M (v, g) = e and Mᴴ (w, ·) = e, so that dg = −wᴴ (dA) v.
+fn torus_value(m: &DMatrix<Complex<f64>>) -> Option<(Complex<f64>, CVector, CVector)> {
+    let n = m.nrows();
+    let mut e = DVector::zeros(n);
+    e[n - 1] = Complex::new(1.0, 0.0);
+    let x = m.clone().lu().solve(&e)?;
+    let y = m.adjoint().lu().solve(&e)?;
+    let g = x[n - 1];
+    (x.iter()
+        .chain(y.iter())
+        .all(|v| v.re.is_finite() && v.im.is_finite()))
+    .then(|| {
+        (
+            g,
+            x.rows(0, n - 1).into_owned(),
+            y.rows(0, n - 1).into_owned(),
+        )
+    })
+}
+
+fn unit_complex(v: CVector) -> Option<CVector> {
+    let n = v.norm();
+    (n > 0.0 && n.is_finite()).then(|| v.unscale(n))
 }
 
 /// `a` bordered by `border` (b as the last column, cᵀ as the last row).
@@ -494,12 +608,18 @@ impl<const N: usize> FoldSystem<'_, N> {
         u[N + 2]
     }
 
+    /// The number of unknowns: (x0, T, V, p), and θ for the torus.
+    fn dim(&self) -> usize {
+        N + 3 + usize::from(self.kind == TrackKind::Torus)
+    }
+
     /// What the curve's points are, in messages.
     fn what(&self) -> &'static str {
         match (self.kind, self.run.symmetric) {
             (TrackKind::Fold, _) => "fold",
             (TrackKind::Flip, true) => "symmetry-breaking point",
             (TrackKind::Flip, false) => "period doubling",
+            (TrackKind::Torus, _) => "torus bifurcation",
         }
     }
 
@@ -561,22 +681,21 @@ impl<const N: usize> FoldSystem<'_, N> {
         Ok(DVector::from_column_slice(d.as_slice()))
     }
 
-    /// The fold system's derivative rows beside the shooting linearisation: ∂G/∂p (N) and
-    /// ∇g (N + 3).
+    /// The derivatives of the shooting map's tangents in the unknowns (x0, T, V, p): for each
+    /// direction (δx, δT) of `dirs`, the N + 3 vectors ∂(A d)/∂u_k, where the first N rows of
+    /// A d are ξ(1) of the time-normalised flow in that direction ([`tangent_on_steps`]).
     ///
-    /// ∇g = −wᵀ (∂A/∂u) v (Govaerts), with v and w the right and left null vectors of the
-    /// bordered A. The first N rows of A v are the derivative of the shooting map in the
-    /// direction (v_x, v_T), ξ(1) of the time-normalised flow and its tangent
-    /// ([`tangent_on_steps`]); its derivative in each unknown is a one-sided difference of
-    /// such tangents, all on one step sequence (a plain flow's at `u`), so the differences
-    /// are smooth in the unknowns. N + 4 flows with one tangent each, in parallel, instead of
-    /// N + 3 monodromies (each a flow with N tangents).
-    fn differences(
+    /// Each is a one-sided difference of two such tangents, all on one step sequence (a plain
+    /// flow's at `u`), so the differences are smooth in the unknowns: (N + 4) flows with one
+    /// tangent each per direction, in parallel, instead of N + 3 monodromies (each a flow
+    /// with N tangents). With them ∇g = −wᵀ (∂A/∂u) v (Govaerts), v and w the right and left
+    /// null vectors of the bordered A.
+    fn tangent_derivatives(
         &self,
         model: &Vehicle,
         u: &DVector<f64>,
-        (v, w): (&DVector<f64>, &DVector<f64>),
-    ) -> Result<Derivs, String> {
+        dirs: &[(SVector<f64, N>, f64)],
+    ) -> Result<Vec<Vec<SVector<f64, N>>>, String> {
         let p = Self::p(u);
         let hp = self.eps * self.scale[N + 2].max(p.abs() * 1e-3);
         let hp = if p + hp > self.bounds.1 { -hp } else { hp };
@@ -597,10 +716,9 @@ impl<const N: usize> FoldSystem<'_, N> {
             .into_iter()
             .map(|t| t / horizon)
             .collect();
-        let vx: SVector<f64, N> = SVector::from_fn(|i, _| v[i]);
-        let d_horizon = dtau * v[N];
-        // the flow's tangent with unknown k shifted by h (k = N + 3: none)
-        let tangent = |k: usize, h: f64| -> Result<SVector<f64, N>, String> {
+        // direction d's tangent with unknown k shifted by h (k = N + 3: none)
+        let tangent = |d: usize, k: usize, h: f64| -> Result<SVector<f64, N>, String> {
+            let (vx, vt) = &dirs[d];
             let mut x0 = o.x0;
             let (mut period, mut speed, mut m) = (o.period, o.param, model);
             match k {
@@ -610,7 +728,7 @@ impl<const N: usize> FoldSystem<'_, N> {
                 _ if k == N + 2 => m = &shifted,
                 _ => {}
             }
-            tangent_on_steps(m, speed, &x0, &vx, (dtau * period, d_horizon), &taus)
+            tangent_on_steps(m, speed, &x0, vx, (dtau * period, dtau * vt), &taus)
                 .map(|(_, xi)| xi)
                 .map_err(|e| format!("integration failed: {e}"))
         };
@@ -620,20 +738,82 @@ impl<const N: usize> FoldSystem<'_, N> {
                 _ => TANGENT_STEP * self.scale[k].max(u[k].abs() * 1e-3),
             })
             .collect();
-        let rows: Vec<Result<SVector<f64, N>, String>> = (0..N + 4)
-            .into_par_iter()
-            .map(|k| tangent(k, steps.get(k).copied().unwrap_or(0.0)))
+        let jobs: Vec<(usize, usize)> = (0..dirs.len())
+            .flat_map(|d| (0..N + 4).map(move |k| (d, k)))
             .collect();
-        let mut rows = rows.into_iter().collect::<Result<Vec<_>, String>>()?;
-        let base = rows.pop().ok_or("no tangent")?;
+        let flows: Vec<Result<SVector<f64, N>, String>> = jobs
+            .into_par_iter()
+            .map(|(d, k)| tangent(d, k, steps.get(k).copied().unwrap_or(0.0)))
+            .collect();
+        let flows = flows.into_iter().collect::<Result<Vec<_>, String>>()?;
+        Ok(flows
+            .chunks(N + 4)
+            .map(|c| (0..N + 3).map(|k| (c[k] - c[N + 3]) / steps[k]).collect())
+            .collect())
+    }
+
+    /// The test rows at `u` (see [`TestRows`]) from the linearisation `lin`, the borders
+    /// taken afresh from the null vectors first when `reset`.
+    fn test_rows(
+        &self,
+        model: &Vehicle,
+        u: &DVector<f64>,
+        lin: &Linearised<N>,
+        fr: &SVector<f64, N>,
+        border: &mut Border,
+        reset: bool,
+    ) -> Result<TestRows, String> {
+        let singular = "the bordered test matrix is singular";
+        let dim = self.dim();
+        if self.kind == TrackKind::Torus {
+            let theta = u[N + 3];
+            let a = torus_matrix(self.run.symmetric, lin, theta);
+            let (mut g, mut v, mut w) =
+                torus_value(&bordered_complex(&a, border)).ok_or(singular)?;
+            if reset {
+                if let (Some(b), Some(c)) = (unit_complex(w.clone()), unit_complex(v.clone())) {
+                    *border = Border::complex(b, c);
+                    (g, v, w) = torus_value(&bordered_complex(&a, border)).ok_or(singular)?;
+                }
+            }
+            let re: SVector<f64, N> = SVector::from_fn(|i, _| v[i].re);
+            let im: SVector<f64, N> = SVector::from_fn(|i, _| v[i].im);
+            let d = self.tangent_derivatives(model, u, &[(re, 0.0), (im, 0.0)])?;
+            // A = σΦ − e^{iθ} I: ∂g/∂u_k = −σ wᴴ (∂Φ/∂u_k) v, ∂g/∂θ = i e^{iθ} wᴴ v
+            let sigma = if self.run.symmetric { -1.0 } else { 1.0 };
+            let mut grad = vec![Complex::new(0.0, 0.0); dim];
+            for k in 0..N + 3 {
+                grad[k] = -(0..N)
+                    .map(|j| w[j].conj() * Complex::new(d[0][k][j], d[1][k][j]))
+                    .sum::<Complex<f64>>()
+                    * sigma;
+            }
+            let wv: Complex<f64> = (0..N).map(|j| w[j].conj() * v[j]).sum();
+            grad[N + 3] = Complex::new(0.0, 1.0) * Complex::from_polar(1.0, theta) * wv;
+            return Ok(vec![
+                (g.re, DVector::from_fn(dim, |k, _| grad[k].re)),
+                (g.im, DVector::from_fn(dim, |k, _| grad[k].im)),
+            ]);
+        }
+        let a_test = test_matrix(self.kind, self.run.symmetric, lin, fr);
+        let (mut g, mut v, mut w) = fold_value(&bordered(&a_test, border)).ok_or(singular)?;
+        if reset {
+            if let (Some(b), Some(c)) = (unit(w.clone()), unit(v.clone())) {
+                *border = Border::real(b, c);
+                (g, v, w) = fold_value(&bordered(&a_test, border)).ok_or(singular)?;
+            }
+        }
+        // a flip's null vector has no period component
+        let vx: SVector<f64, N> = SVector::from_fn(|i, _| v[i]);
+        let vt = v.get(N).copied().unwrap_or(0.0);
         let wx: SVector<f64, N> = SVector::from_fn(|i, _| w[i]);
-        let grad = DVector::from_fn(N + 3, |k, _| -wx.dot(&(rows[k] - base)) / steps[k]);
-        let gp = self.g_p(model, u)?;
-        Ok((gp, grad))
+        let d = self.tangent_derivatives(model, u, &[(vx, vt)])?;
+        let grad = DVector::from_fn(dim, |k, _| if k < N + 3 { -wx.dot(&d[0][k]) } else { 0.0 });
+        Ok(vec![(g, grad)])
     }
 
     /// Newton on the fold system from `zp` with the last row `row`; every iterate's
-    /// derivatives are fresh ([`Self::differences`] is a few plain flows' cost), so it
+    /// derivatives are fresh ([`Self::tangent_derivatives`] is a few plain flows' cost), so it
     /// converges quadratically.
     fn correct(
         &self,
@@ -658,25 +838,16 @@ impl<const N: usize> FoldSystem<'_, N> {
         let mut previous = f64::INFINITY;
         let mut was_reset = false;
         let tol = self.setup.params.newton_tol;
+        let dim = self.dim();
+        let last = dim - 1;
         for it in 1..=MAX_ITERATIONS {
             let model = self.model(Self::p(&u))?;
             let lin = self.linearise(&model, &u, last_seed.as_ref())?;
-            let singular = "the bordered fold matrix is singular";
-            let a_test = test_matrix(self.kind, self.run.symmetric, &lin, &fr);
-            let (mut g, mut v, mut w) = fold_value(&bordered(&a_test, &border)).ok_or(singular)?;
-            if reset {
-                if let (Some(b), Some(c)) = (unit(w.clone()), unit(v.clone())) {
-                    border = Border { b, c };
-                    (g, v, w) = fold_value(&bordered(&a_test, &border)).ok_or(singular)?;
-                }
-                reset = false;
-            }
-            // a flip's null vector has no period component
-            v = v.resize_vertically(N + 1, 0.0);
-            w = w.resize_vertically(N + 1, 0.0);
-            let (gp, grad) = self.differences(&model, &u, (&v, &w))?;
-            let mut a = DMatrix::zeros(N + 3, N + 3);
-            let mut rhs = DVector::zeros(N + 3);
+            let tests = self.test_rows(&model, &u, &lin, &fr, &mut border, reset)?;
+            reset = false;
+            let gp = self.g_p(&model, &u)?;
+            let mut a = DMatrix::zeros(dim, dim);
+            let mut rhs = DVector::zeros(dim);
             a.view_mut((0, 0), (N, N + 2)).copy_from(&lin.jacobian);
             a.view_mut((0, N + 2), (N, 1)).copy_from(&gp);
             for i in 0..N {
@@ -684,22 +855,24 @@ impl<const N: usize> FoldSystem<'_, N> {
                 a[(N, i)] = fr[i];
             }
             rhs[N] = -(0..N).map(|i| fr[i] * (u[i] - xr[i])).sum::<f64>();
-            for k in 0..N + 3 {
-                a[(N + 1, k)] = grad[k];
+            for (r, (g, grad)) in tests.iter().enumerate() {
+                for k in 0..dim {
+                    a[(N + 1 + r, k)] = grad[k];
+                }
+                rhs[N + 1 + r] = -g;
             }
-            rhs[N + 1] = -g;
             match &row {
                 Row::Arclength { tangent, zp } => {
-                    for k in 0..N + 3 {
-                        a[(N + 2, k)] = tangent[k] / s[k];
+                    for k in 0..dim {
+                        a[(last, k)] = tangent[k] / s[k];
                     }
-                    rhs[N + 2] = -(0..N + 3)
+                    rhs[last] = -(0..dim)
                         .map(|k| tangent[k] * (u[k] - zp[k]) / s[k])
                         .sum::<f64>();
                 }
                 Row::Pin(q) => {
-                    a[(N + 2, N + 2)] = 1.0;
-                    rhs[N + 2] = q - u[N + 2];
+                    a[(last, N + 2)] = 1.0;
+                    rhs[last] = q - u[N + 2];
                 }
             }
             let mut delta = a
@@ -712,6 +885,12 @@ impl<const N: usize> FoldSystem<'_, N> {
             if let Row::Pin(q) = row {
                 u[N + 2] = q;
                 delta[N + 2] = 0.0;
+            }
+            if u[N].is_nan() || u[N] <= 0.0 {
+                return Err(format!(
+                    "Newton left the cycles (period {:.3e} s at iteration {it})",
+                    u[N]
+                ));
             }
             last_seed = Some(lin.seed.clone());
             let size = delta
@@ -740,16 +919,16 @@ impl<const N: usize> FoldSystem<'_, N> {
                 // the last linearisation, one update of at most the tolerance away, gives the
                 // multipliers and the amplitude (as on the branches)
                 // the tangent: the Jacobian's rows with the old tangent as last row
-                for k in 0..N + 3 {
-                    a[(N + 2, k)] = old_tangent[k] / s[k];
+                for k in 0..dim {
+                    a[(last, k)] = old_tangent[k] / s[k];
                 }
-                let mut e = DVector::zeros(N + 3);
-                e[N + 2] = 1.0;
+                let mut e = DVector::zeros(dim);
+                e[last] = 1.0;
                 let t = a
                     .lu()
                     .solve(&e)
                     .ok_or("the fold curve's tangent is undefined")?;
-                let t = DVector::from_fn(N + 3, |k, _| t[k] / s[k]);
+                let t = DVector::from_fn(dim, |k, _| t[k] / s[k]);
                 let mut t = unit(t).ok_or("the fold curve's tangent is undefined")?;
                 if t.dot(old_tangent) < 0.0 {
                     t = -t;
@@ -775,7 +954,7 @@ impl<const N: usize> FoldSystem<'_, N> {
     }
 
     fn predict(&self, u: &DVector<f64>, t: &DVector<f64>, ds: f64) -> DVector<f64> {
-        DVector::from_fn(N + 3, |k, _| u[k] + ds * t[k] * self.scale[k])
+        DVector::from_fn(self.dim(), |k, _| u[k] + ds * t[k] * self.scale[k])
     }
 
     fn track_point(&self, p: &Point<N>, on_grid: bool) -> FoldTrackPoint {
@@ -787,10 +966,10 @@ impl<const N: usize> FoldSystem<'_, N> {
             stable_side: stable_side(&p.floquet),
             located: true,
             on_grid,
+            angle_rad: (self.kind == TrackKind::Torus).then(|| p.u[N + 3]),
         }
     }
 
-    /// The whole fold curve through the diagram's fold `orbit` at key value `first`.
     /// The fold curve through the diagram's fold `orbit`, or `None` when the fold, solved as a
     /// point of the fold system, is one `known(speed)` says a curve already passes through.
     fn curve(
@@ -812,9 +991,10 @@ impl<const N: usize> FoldSystem<'_, N> {
             Ok(s) => s,
             Err(e) => {
                 return Some(lost(format!(
-                    "the diagram's {what} could not be solved on the extended system: {e}",
-                    what = self.what()
-                )))
+                "the diagram's {what} at {:.3} m/s could not be solved on the extended system: {e}",
+                orbit.param,
+                what = self.what()
+            )))
             }
         };
         if known(start.u[N + 1]) {
@@ -849,23 +1029,26 @@ impl<const N: usize> FoldSystem<'_, N> {
         // the borders: A's singular vectors of its smallest singular value
         let xr: SVector<f64, N> = orbit.x0;
         let fr = model.rhs(&xr, orbit.param);
-        let a = test_matrix(self.kind, self.run.symmetric, &lin, &fr);
-        let svd = a.svd(true, true);
-        let k = svd
-            .singular_values
-            .iter()
-            .enumerate()
-            .min_by(|x, y| x.1.total_cmp(y.1))
-            .map(|(k, _)| k)
-            .ok_or("no singular values")?;
-        let (Some(uu), Some(vt)) = (svd.u, svd.v_t) else {
-            return Err("no singular vectors".into());
+        let border = if self.kind == TrackKind::Torus {
+            // θ: the angle of the complex shooting multiplier nearest the unit circle
+            let f = Floquet::from_monodromy(&lin.monodromy, self.run.symmetric);
+            let nu = f
+                .shooting_multipliers()
+                .iter()
+                .filter(|m| m.im > 1e-9 * m.norm())
+                .min_by(|a, b| (a.norm() - 1.0).abs().total_cmp(&(b.norm() - 1.0).abs()))
+                .copied()
+                .ok_or("no complex pair of multipliers at the diagram's torus point")?;
+            u.extend([nu.arg()]);
+            let a = torus_matrix(self.run.symmetric, &lin, nu.arg());
+            let (b, c) = smallest_singular_pair(a).ok_or("no singular vectors")?;
+            Border::complex(b, c)
+        } else {
+            let a = test_matrix(self.kind, self.run.symmetric, &lin, &fr);
+            let (b, c) = smallest_singular_pair(a).ok_or("no singular vectors")?;
+            Border::real(b, c)
         };
-        let border = Border {
-            b: uu.column(k).into_owned(),
-            c: vt.row(k).transpose(),
-        };
-        let mut towards = DVector::zeros(N + 3);
+        let mut towards = DVector::zeros(self.dim());
         towards[N + 2] = 1.0;
         let from = From {
             border: &border,
@@ -918,8 +1101,16 @@ impl<const N: usize> FoldSystem<'_, N> {
                 } else {
                     ""
                 };
+                let angle = if self.kind == TrackKind::Torus {
+                    format!(
+                        ", θ = {:.4} rad",
+                        a.u[N + 3].rem_euclid(std::f64::consts::TAU)
+                    )
+                } else {
+                    String::new()
+                };
                 break format!(
-                    "no {} could be solved beyond key value {} ({:.4} m/s, {:.3} mm): {last_error}{near}",
+                    "no {} could be solved beyond key value {} ({:.4} m/s, {:.3} mm{angle}): {last_error}{near}",
                     self.what(),
                     Self::p(&a.u),
                     a.u[N + 1],
@@ -1042,10 +1233,27 @@ impl<const N: usize> FoldSystem<'_, N> {
             };
             ds = (ds * factor).min(DS_MAX);
             let reason = if c.amplitude < MIN_FOLD_AMPLITUDE {
+                let point = if self.kind == TrackKind::Torus {
+                    "a double Hopf point (where a second pair of the centred motion's eigenvalues is on the imaginary axis)"
+                } else {
+                    "a generalised Hopf (Bautin) point"
+                };
                 Some(format!(
-                    "the fold's amplitude falls to zero ({:.1} µm at {:.4} m/s): the curve ends on the Hopf curve, at a generalised Hopf (Bautin) point",
+                    "the {}'s amplitude falls to zero ({:.1} µm at {:.4} m/s): the curve ends on the Hopf curve, at {point}",
+                    self.what(),
                     c.amplitude * 1e6,
                     c.u[N + 1]
+                ))
+            } else if self.kind == TrackKind::Torus && c.u[N + 3].sin().abs() < MIN_SIN_THETA {
+                let theta = c.u[N + 3].rem_euclid(std::f64::consts::TAU);
+                let near = if theta.cos() > 0.0 {
+                    "θ → 0: a 1:1 resonance, where the torus curve meets a fold curve (a fold–torus point)"
+                } else {
+                    "θ → π: a 1:2 resonance, where the torus curve meets a flip curve"
+                };
+                Some(format!(
+                    "the multipliers e^(±iθ) on the unit circle become real at {:.4} m/s (θ = {:.4} rad, {near})",
+                    c.u[N + 1], theta
                 ))
             } else if c.extent > self.setup.params.max_amplitude {
                 Some(format!(

@@ -76,6 +76,23 @@ fn kind_and_label(t: &FoldTrack) -> (CurveKind, &'static str) {
         (TrackKind::Flip, BranchKind::Period(_)) => {
             (CurveKind::PeriodDoubling, "period doubling (doubled)")
         }
+        (TrackKind::Torus, BranchKind::Symmetric) => (CurveKind::Torus, "torus (symmetric)"),
+        (TrackKind::Torus, BranchKind::Asymmetric) => (CurveKind::Torus, "torus (asymmetric)"),
+        (TrackKind::Torus, BranchKind::Period(_)) => (CurveKind::Torus, "torus (doubled)"),
+    }
+}
+
+/// Whether a curve of kind `curve` continues points of the fold system's kind `track`.
+fn continues(track: TrackKind, curve: CurveKind) -> bool {
+    match track {
+        TrackKind::Fold => curve == CurveKind::Fold,
+        TrackKind::Flip => {
+            matches!(
+                curve,
+                CurveKind::SymmetryBreaking | CurveKind::PeriodDoubling
+            )
+        }
+        TrackKind::Torus => curve == CurveKind::Torus,
     }
 }
 
@@ -106,6 +123,9 @@ pub(super) fn fold_curves(
         || spec.curves.contains(&CurveKind::PeriodDoubling)
     {
         kinds.push(TrackKind::Flip);
+    }
+    if spec.curves.contains(&CurveKind::Torus) {
+        kinds.push(TrackKind::Torus);
     }
     // the diagrams: at the study's own value (else `from`), then at `seed_points` values of
     // the grid, each following only the folds no curve passes through yet
@@ -147,14 +167,11 @@ pub(super) fn fold_curves(
         let model_at = |v: f64| study.model_at(v).map_err(|e| e.to_string());
         let known = report.curves[start..].to_vec();
         let skip = |kind: TrackKind, speed: f64, _amplitude: f64| {
-            known
-                .iter()
-                .filter(|c| (c.kind == CurveKind::Fold) == (kind == TrackKind::Fold))
-                .any(|c| {
-                    c.points.iter().any(|p| {
-                        p.parameter == first && (p.speed_m_s - speed).abs() <= 1e-4 * speed
-                    })
-                })
+            known.iter().filter(|c| continues(kind, c.kind)).any(|c| {
+                c.points
+                    .iter()
+                    .any(|p| p.parameter == first && (p.speed_m_s - speed).abs() <= 1e-4 * speed)
+            })
         };
         let done = |t: &FoldTrack, seconds: f64| {
             let (lo, hi) = t
@@ -240,6 +257,19 @@ pub(super) fn fold_curves(
         }
     }
     let first = first_seed.unwrap_or(spec.range.0);
+    for kind in [
+        CurveKind::SymmetryBreaking,
+        CurveKind::PeriodDoubling,
+        CurveKind::Torus,
+    ] {
+        if spec.curves.contains(&kind) && !report.curves[start..].iter().any(|c| c.kind == kind) {
+            report.notes.push(format!(
+                "no \"{}\" curve: the diagrams at {diagrams} values of {} (the study's own and {k} of the fold grid) have no such point of a cycle branch to start one from",
+                kind.name(),
+                spec.key
+            ));
+        }
+    }
     if !spec.curves.contains(&CurveKind::Fold) {
         return Ok(());
     }
@@ -296,6 +326,7 @@ fn curve(t: &FoldTrack, law: crate::contact::creep::CreepLaw, first: f64) -> Cur
             stable_side: StableSide::Neither,
             // (a flip's other multipliers say nothing of a cycle ending there)
             stable_cycle: (t.kind == TrackKind::Fold).then_some(p.stable_side),
+            torus_angle_rad: p.angle_rad,
         })
         .collect();
     let end = |message: &String| CurveStop::Lost {

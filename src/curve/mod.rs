@@ -229,6 +229,9 @@ pub struct CurvePoint {
     /// on a fold curve: whether a stable cycle branch ends at the fold (a hunting motion
     /// disappears there, so the fold can be V_NL); `None` on Hopf curves
     pub stable_cycle: Option<bool>,
+    /// on a torus curve: the angle θ (rad) of the shooting map's multipliers e^{±iθ} on the
+    /// unit circle (the torus's rotation number is θ/2π); `None` elsewhere
+    pub torus_angle_rad: Option<f64>,
 }
 
 /// One continued curve.

@@ -66,18 +66,17 @@ pub fn analyse_with_progress(
                     ));
                 }
             }
-            // the folds and the flips (symmetry breaking, period doubling) of cycles: from the
-            // same diagrams, in one pass
-            CurveKind::Fold | CurveKind::SymmetryBreaking | CurveKind::PeriodDoubling => {
+            // the folds, flips (symmetry breaking, period doubling) and torus bifurcations of
+            // cycles: from the same diagrams, in one pass
+            CurveKind::Fold
+            | CurveKind::SymmetryBreaking
+            | CurveKind::PeriodDoubling
+            | CurveKind::Torus => {
                 if !cycles_done {
                     super::folds::fold_curves(study, spec, cancel, progress, &mut report)?;
                     cycles_done = true;
                 }
             }
-            other => report.notes.push(format!(
-                "\"{}\" curves are not available yet: nothing was continued for them (the Hopf, fold, symmetry-breaking and period-doubling curves are)",
-                other.name()
-            )),
         }
     }
     if report.curves.is_empty() {
@@ -347,6 +346,7 @@ fn point<const N: usize, F: HopfFamily<N>>(family: &F, p: &TracedPoint<N>) -> Cu
         hopf_type: e.l1.as_ref().map(|l| l.kind()),
         stable_side,
         stable_cycle: None,
+        torus_angle_rad: None,
     }
 }
 

@@ -107,11 +107,12 @@ pub fn curve(r: &CurveReport) -> Rendered {
             style: Style::Line { dashed: true },
         });
     }
-    // the flips of cycles: where asymmetric (symmetry breaking) or doubled (period doubling)
-    // cycles branch off, dotted, one line per kind
+    // the flips of cycles, where asymmetric (symmetry breaking) or doubled (period doubling)
+    // cycles branch off, and the torus bifurcations: one dashed line per kind
     for (kind, name) in [
         (CurveKind::SymmetryBreaking, "symmetry breaking of cycles"),
         (CurveKind::PeriodDoubling, "period doubling of cycles"),
+        (CurveKind::Torus, "torus bifurcations of cycles"),
     ] {
         let mut points: Vec<(f64, f64)> = Vec::new();
         for c in r.curves.iter().filter(|c| c.kind == kind) {

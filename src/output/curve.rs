@@ -23,6 +23,7 @@ fn point_json(p: &CurvePoint) -> Value {
         "hopf_type": p.hopf_type.map(|k| k.name()),
         "stable_side": p.stable_side.name(),
         "stable_cycle": p.stable_cycle,
+        "torus_angle_rad": p.torus_angle_rad,
     })
 }
 
@@ -113,7 +114,7 @@ pub fn curve_key_column(r: &CurveReport) -> String {
 pub fn curve_csv(r: &CurveReport) -> String {
     let mut s = format!(
         "curve,kind,creep_law,label,{},speed_m_s,frequency_hz,amplitude_m,\
-first_lyapunov_coefficient_per_m2,first_lyapunov_error_per_m2,hopf_type,stable_side,stable_cycle\n",
+first_lyapunov_coefficient_per_m2,first_lyapunov_error_per_m2,hopf_type,stable_side,stable_cycle,torus_angle_rad\n",
         curve_key_column(r)
     );
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
@@ -121,7 +122,7 @@ first_lyapunov_coefficient_per_m2,first_lyapunov_error_per_m2,hopf_type,stable_s
         for p in &c.points {
             let _ = writeln!(
                 s,
-                "{k},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{k},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 c.kind.name(),
                 c.creep_law.name(),
                 c.label,
@@ -134,6 +135,7 @@ first_lyapunov_coefficient_per_m2,first_lyapunov_error_per_m2,hopf_type,stable_s
                 p.hopf_type.map_or("", |h| h.name()),
                 p.stable_side.name(),
                 p.stable_cycle.map_or(String::new(), |b| b.to_string()),
+                opt(p.torus_angle_rad),
             );
         }
     }
