@@ -107,8 +107,8 @@ pub enum Command {
     Sweep(sweep::SweepArgs),
     /// Critical speeds as curves over the study's `[curve]` key: the Hopf speeds V_L and V_H
     /// continued in (speed, key), with the first Lyapunov coefficient, the folds of cycles and
-    /// V_NL (symmetry breaking and period doubling when asked), and the codimension-two points
-    /// (curve.csv, curve.json, curve.svg).
+    /// V_NL (symmetry breaking, period doubling and torus when asked), and the codimension-two
+    /// points (curve.csv, curve.json, curve.svg).
     Curve(curve::CurveArgs),
     /// Join the records files of a sharded sweep into sweep.csv (refuses other studies' files).
     Merge(sweep::MergeArgs),

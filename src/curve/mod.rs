@@ -13,8 +13,9 @@
 //! (bordered shooting Jacobian), with cusps, fold–flip, fold–torus and fold–symmetry-breaking
 //! points located on them and the fold solved at each of [`CurveSpec::fold_points`] key values;
 //! V_NL against the key from them and the supercritical parts of the V_H curves, with its
-//! jumps. The bifurcations of cycles (symmetry breaking, period doubling, torus) are not
-//! continued as curves yet: asking for them puts a note in the report.
+//! jumps. The same system with another test matrix continues the diagrams' symmetry-breaking
+//! and period-doubling points (Φ ∓ I singular) and, with the angle θ as one more unknown, their
+//! torus points (σΦ − e^{iθ}I singular, complex).
 //!
 //! Data flow: [`keyed::KeyedStudy`] (the study at any value of the key) → a
 //! [`family::HopfFamily`] per creep law → the continuation → [`CurveReport`] (plain data for
