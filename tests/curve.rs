@@ -9,6 +9,7 @@ use std::path::Path;
 use critspeed::api::{self, Prepared, Source};
 use critspeed::bifurcation::{self, HopfType};
 use critspeed::contact::creep::CreepLaw;
+use critspeed::continuation::SpecialKind::{SymmetryBreaking, Torus};
 use critspeed::curve::{CurveKind, CurveReport, SpecialKind};
 use critspeed::stability::{HopfKind, LinearSystem};
 
@@ -196,6 +197,22 @@ fn cubic_fold_fold_curve_equals_whole_diagrams() {
     );
 }
 
+/// The located special point of `kind` of diagram `d` nearest in speed to `speed` (m/s).
+fn nearest_located(
+    d: &bifurcation::BifurcationReport,
+    kind: critspeed::continuation::SpecialKind,
+    speed: f64,
+) -> Option<&bifurcation::SpecialRow> {
+    d.special
+        .iter()
+        .filter(|s| s.kind == kind && s.located)
+        .min_by(|x, y| {
+            (x.speed_m_s - speed)
+                .abs()
+                .total_cmp(&(y.speed_m_s - speed).abs())
+        })
+}
+
 /// The symmetry-breaking curve of the DTU bogie over its yaw-damper rate against whole
 /// diagrams: at 8 of its points spread over it (speeds below 295 m/s, inside the diagrams'
 /// 300 m/s range), the study rewritten with the point's key value has a located
@@ -243,23 +260,12 @@ fn dtu_bogie_symmetry_breaking_curve_equals_whole_diagrams() {
         let source = rewritten(name, key, q.parameter);
         let prepared = Prepared::new(source.plan().expect("plan")).expect("model");
         let d = api::bifurcation(&prepared, Default::default()).expect("diagram");
-        let nearest = d
-            .special
-            .iter()
-            .filter(|s| {
-                s.kind == critspeed::continuation::SpecialKind::SymmetryBreaking && s.located
-            })
-            .min_by(|x, y| {
-                (x.speed_m_s - q.speed_m_s)
-                    .abs()
-                    .total_cmp(&(y.speed_m_s - q.speed_m_s).abs())
-            })
-            .unwrap_or_else(|| {
-                panic!(
-                    "no located symmetry-breaking point in the diagram at {key} = {}",
-                    q.parameter
-                )
-            });
+        let nearest = nearest_located(&d, SymmetryBreaking, q.speed_m_s).unwrap_or_else(|| {
+            panic!(
+                "no located symmetry-breaking point in the diagram at {key} = {}",
+                q.parameter
+            )
+        });
         let dv = (nearest.speed_m_s - q.speed_m_s).abs() / q.speed_m_s;
         let da = (nearest.amplitude_y_m - q.amplitude_m).abs() / q.amplitude_m;
         assert!(
@@ -377,21 +383,12 @@ fn dtu_bogie_torus_curve_equals_whole_diagrams_and_ends_at_the_double_hopf_point
             continue;
         }
         checked += 1;
-        let nearest = d
-            .special
-            .iter()
-            .filter(|s| s.kind == critspeed::continuation::SpecialKind::Torus && s.located)
-            .min_by(|x, y| {
-                (x.speed_m_s - q.speed_m_s)
-                    .abs()
-                    .total_cmp(&(y.speed_m_s - q.speed_m_s).abs())
-            })
-            .unwrap_or_else(|| {
-                panic!(
-                    "no located torus point in the diagram at {key} = {}",
-                    q.parameter
-                )
-            });
+        let nearest = nearest_located(&d, Torus, q.speed_m_s).unwrap_or_else(|| {
+            panic!(
+                "no located torus point in the diagram at {key} = {}",
+                q.parameter
+            )
+        });
         let dv = rel(nearest.speed_m_s, q.speed_m_s);
         let da = rel(nearest.amplitude_y_m, q.amplitude_m);
         worst = (worst.0.max(dv), worst.1.max(da));
