@@ -14,6 +14,9 @@
 //!   diagrams, every fold curve and V_NL (goals 10 s and 60 s on two threads); the bogie's
 //!   symmetry-breaking curve is left out. Ten samples
 //!   each: minutes; run them alone with `cargo bench --bench curve -- _folds`.
+//! * `curve_dtu_bogie_yaw_damping_torus`: the torus (Neimark–Sacker) curves of the DTU bogie
+//!   over the yaw-damper rate: its six diagrams and the one torus curve from them
+//!   (`cargo bench --bench curve -- torus`).
 //! * `first_lyapunov_seed_hunting`: l1 at the Shen Hopf point of `studies/seed-hunting.toml`
 //!   (Richardson tableau of central differences of the exact Jacobian).
 
@@ -56,6 +59,15 @@ fn benches(c: &mut Criterion) {
     };
     group.bench_function("curve_cubic_fold_friction_folds", |b| {
         b.iter(|| api::curve::curve(black_box(&cubic), None).expect("curves"))
+    });
+    let torus = {
+        let source = Source::file(&study("dtu-cooperrider-bogie.toml")).expect("study file");
+        let mut s = api::curve::curve_study(&source).expect("curve study");
+        s.spec.curves = vec![CurveKind::Torus];
+        s
+    };
+    group.bench_function("curve_dtu_bogie_yaw_damping_torus", |b| {
+        b.iter(|| api::curve::curve(black_box(&torus), None).expect("curves"))
     });
     group.finish();
     // V_L, V_H and V_NL: the Hopf and fold curves (the bogie's study also asks for its
