@@ -104,7 +104,7 @@ const MAX_ANGLE: f64 = 0.3;
 /// Steps along the curve (scaled units: the key's range is [`KEY_UNITS`] units, 1 m/s of speed
 /// and about 1 mm of amplitude one unit).
 const DS_INITIAL: f64 = 0.5;
-const DS_MAX: f64 = 6.0;
+const DS_MAX: f64 = 12.0;
 const DS_MIN: f64 = 1e-4;
 
 /// The key's whole range in scaled units.
@@ -1226,7 +1226,7 @@ impl<const N: usize> FoldSystem<'_, N> {
             }
             // step control by the corrector's iterations (Newton: 3 or 4 at a good step)
             let factor = match iterations {
-                0..=3 => 1.5,
+                0..=3 => 2.0,
                 4 => 1.2,
                 5 | 6 => 1.0,
                 _ => 0.6,
