@@ -197,6 +197,27 @@ fn cubic_fold_fold_curve_equals_whole_diagrams() {
     );
 }
 
+/// Asserts that the curve point `q` and the diagram's special point `s` at its key value are
+/// the same to 1e-6 relative in speed and 1e-4 in amplitude; returns both differences.
+fn same_point(
+    key: &str,
+    q: &critspeed::curve::CurvePoint,
+    s: &bifurcation::SpecialRow,
+) -> (f64, f64) {
+    let dv = (s.speed_m_s - q.speed_m_s).abs() / q.speed_m_s;
+    let da = (s.amplitude_y_m - q.amplitude_m).abs() / q.amplitude_m;
+    assert!(
+        dv <= 1e-6 && da <= 1e-4,
+        "{key} = {}: curve {} m/s, {} m; diagram {} m/s, {} m ({dv:.1e}, {da:.1e})",
+        q.parameter,
+        q.speed_m_s,
+        q.amplitude_m,
+        s.speed_m_s,
+        s.amplitude_y_m
+    );
+    (dv, da)
+}
+
 /// The located special point of `kind` of diagram `d` nearest in speed to `speed` (m/s).
 fn nearest_located(
     d: &bifurcation::BifurcationReport,
@@ -266,17 +287,7 @@ fn dtu_bogie_symmetry_breaking_curve_equals_whole_diagrams() {
                 q.parameter
             )
         });
-        let dv = (nearest.speed_m_s - q.speed_m_s).abs() / q.speed_m_s;
-        let da = (nearest.amplitude_y_m - q.amplitude_m).abs() / q.amplitude_m;
-        assert!(
-            dv <= 1e-6 && da <= 1e-4,
-            "{key} = {}: curve {} m/s, {} m; diagram {} m/s, {} m ({dv:.1e}, {da:.1e})",
-            q.parameter,
-            q.speed_m_s,
-            q.amplitude_m,
-            nearest.speed_m_s,
-            nearest.amplitude_y_m
-        );
+        same_point(key, q, nearest);
     }
 }
 
@@ -389,18 +400,8 @@ fn dtu_bogie_torus_curve_equals_whole_diagrams_and_ends_at_the_double_hopf_point
                 q.parameter
             )
         });
-        let dv = rel(nearest.speed_m_s, q.speed_m_s);
-        let da = rel(nearest.amplitude_y_m, q.amplitude_m);
+        let (dv, da) = same_point(key, q, nearest);
         worst = (worst.0.max(dv), worst.1.max(da));
-        assert!(
-            dv <= 1e-6 && da <= 1e-4,
-            "{key} = {}: curve {} m/s, {} m; diagram {} m/s, {} m ({dv:.1e}, {da:.1e})",
-            q.parameter,
-            q.speed_m_s,
-            q.amplitude_m,
-            nearest.speed_m_s,
-            nearest.amplitude_y_m
-        );
     }
     eprintln!(
         "{checked} of {samples} torus points on the diagrams; worst {:.1e} in speed, {:.1e} in amplitude",
