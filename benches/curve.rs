@@ -33,11 +33,16 @@ fn study(name: &str) -> PathBuf {
         .join(name)
 }
 
-fn hopf_only(name: &str) -> api::curve::CurveStudy {
+/// The curve study of `studies/NAME` continuing only `curves`.
+fn with_curves(name: &str, curves: &[CurveKind]) -> api::curve::CurveStudy {
     let source = Source::file(&study(name)).expect("study file");
     let mut s = api::curve::curve_study(&source).expect("curve study");
-    s.spec.curves = vec![CurveKind::Hopf];
+    s.spec.curves = curves.to_vec();
     s
+}
+
+fn hopf_only(name: &str) -> api::curve::CurveStudy {
+    with_curves(name, &[CurveKind::Hopf])
 }
 
 fn benches(c: &mut Criterion) {
@@ -51,33 +56,18 @@ fn benches(c: &mut Criterion) {
     group.bench_function("curve_dtu_bogie_yaw_damping_hopf", |b| {
         b.iter(|| api::curve::curve(black_box(&bogie), None).expect("curves"))
     });
-    let cubic = {
-        let source = Source::file(&study("cubic-fold.toml")).expect("study file");
-        let mut s = api::curve::curve_study(&source).expect("curve study");
-        s.spec.curves = vec![CurveKind::Fold];
-        s
-    };
+    let cubic = with_curves("cubic-fold.toml", &[CurveKind::Fold]);
     group.bench_function("curve_cubic_fold_friction_folds", |b| {
         b.iter(|| api::curve::curve(black_box(&cubic), None).expect("curves"))
     });
-    let torus = {
-        let source = Source::file(&study("dtu-cooperrider-bogie.toml")).expect("study file");
-        let mut s = api::curve::curve_study(&source).expect("curve study");
-        s.spec.curves = vec![CurveKind::Torus];
-        s
-    };
+    let torus = with_curves("dtu-cooperrider-bogie.toml", &[CurveKind::Torus]);
     group.bench_function("curve_dtu_bogie_yaw_damping_torus", |b| {
         b.iter(|| api::curve::curve(black_box(&torus), None).expect("curves"))
     });
     group.finish();
     // V_L, V_H and V_NL: the Hopf and fold curves (the bogie's study also asks for its
     // symmetry-breaking curve, which V_NL does not need)
-    let whole = |name: &str| {
-        let source = Source::file(&study(name)).expect("study file");
-        let mut s = api::curve::curve_study(&source).expect("curve study");
-        s.spec.curves = vec![CurveKind::Hopf, CurveKind::Fold];
-        s
-    };
+    let whole = |name: &str| with_curves(name, &[CurveKind::Hopf, CurveKind::Fold]);
     let (bogie, car) = (
         whole("dtu-cooperrider-bogie.toml"),
         whole("dtu-car-yaw-damper-trade.toml"),
