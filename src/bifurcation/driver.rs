@@ -236,7 +236,12 @@ pub(super) fn analyse_and_track<const N: usize>(
     fill(&mut report, &runs, model, opts);
     report.notes.extend(notes);
     let tracks = match track {
-        Some(t) => super::fold_track::follow(&setup, &runs, t),
+        Some(t) => {
+            if let Some(ready) = t.ready {
+                ready();
+            }
+            super::fold_track::follow(&setup, &runs, t)
+        }
         None => Vec::new(),
     };
     Ok((report, tracks))

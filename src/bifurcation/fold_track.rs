@@ -141,6 +141,9 @@ pub struct FoldTracking<'a> {
     pub skip: &'a (dyn Fn(TrackKind, f64, f64) -> bool + Sync),
     /// called once per fold curve when it is done, with the curve and its wall time (s)
     pub done: Option<&'a Done<'a>>,
+    /// called once the diagram is done, before its first point is considered for a curve:
+    /// the caller may wait there (for other diagrams' curves, which `skip` reads)
+    pub ready: Option<&'a (dyn Fn() + Sync)>,
 }
 
 /// `done(curve, wall time s)`, called as each fold curve is finished (progress).

@@ -8,6 +8,8 @@ use crate::bifurcation::fold_track::{
 };
 use crate::bifurcation::{self, BranchKind, Hooks};
 use crate::stability::HopfKind;
+use std::sync::{Condvar, Mutex, PoisonError};
+use std::time::Instant;
 
 use super::keyed::KeyedStudy;
 use super::run::to_p;
@@ -138,8 +140,6 @@ pub(super) fn fold_curves(
         .model()
         .map_or(crate::contact::creep::CreepLaw::Kalker, |m| m.creep_law());
     let start = report.curves.len();
-    let mut first_seed = None;
-    let mut diagrams = 0;
     // the values every fold curve is solved at (user points): the grid and the first
     // diagram's value (the study's own), so that V_NL there sees every curve, whichever
     // diagram it was followed from
@@ -149,112 +149,216 @@ pub(super) fn fold_curves(
         pins.push(first_value);
         pins.sort_by(|a, b| ((a - b) * (spec.range.1 - spec.range.0)).total_cmp(&0.0));
     }
+    // the distinct diagram values in order, each with the pinned values beyond and before it
+    let mut jobs: Vec<(f64, Vec<f64>, Vec<f64>)> = Vec::new();
     for seed in seeds {
-        let (first, fore, back) = split(spec, seed, &pins);
-        if first_seed.is_none() {
-            first_seed = Some(first);
-        } else if Some(first) == first_seed && seed != first_seed {
-            continue;
+        let job = split(spec, seed, &pins);
+        if !jobs.iter().any(|j| j.0 == job.0) {
+            jobs.push(job);
         }
-        if cancel.is_some_and(|c| c()) {
-            break;
+    }
+    let first_seed = jobs.first().map(|j| j.0);
+    // The diagrams overlap: while one diagram's folds are followed (on the pool's threads, a
+    // curve's two sides and its tangent flows in parallel, with idle time between), the next
+    // diagrams are computed. The curves stay as they were one diagram at a time: a diagram's
+    // folds are considered for curves only when every earlier diagram's curves are in the
+    // report (`skip` reads them), and curves are added in diagram order.
+    let turns = Mutex::new(Turns {
+        report,
+        turn: 0,
+        computed: vec![false; jobs.len()],
+        diagrams: 0,
+        error: None,
+    });
+    let bell = Condvar::new();
+    let wait_until = |ok: &dyn Fn(&Turns) -> bool| {
+        let mut guard = turns.lock().unwrap_or_else(PoisonError::into_inner);
+        while !ok(&guard) {
+            guard = bell.wait(guard).unwrap_or_else(PoisonError::into_inner);
         }
-        let model = study.model_at(first)?;
-        let plan = study.plan_at(first).map_err(CurveError::Study)?;
-        let mut opts = plan.bifurcation_options();
-        opts.speed_range = spec.speed_range;
-        opts.rtol = spec.rtol;
-        let model_at = |v: f64| study.model_at(v).map_err(|e| e.to_string());
-        let known = report.curves[start..].to_vec();
-        let skip = |kind: TrackKind, speed: f64, _amplitude: f64| {
-            known.iter().filter(|c| continues(kind, c.kind)).any(|c| {
-                c.points
-                    .iter()
-                    .any(|p| p.parameter == first && (p.speed_m_s - speed).abs() <= 1e-4 * speed)
-            })
+        guard
+    };
+    // A thread per diagram: the first diagram and every diagram's curves use the pool, the
+    // later diagrams are integrated on their own thread, one at a time, beside the curves.
+    // Inside the pool (a caller that is itself a rayon job, whose blocking could starve it)
+    // or with one thread: one diagram after the other, as before.
+    let concurrent = rayon::current_thread_index().is_none() && rayon::current_num_threads() > 1;
+    let origin = Instant::now();
+    let computed = |k: usize| {
+        let mut t = turns.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(c) = t.computed.get_mut(k) {
+            *c = true;
+        }
+        drop(t);
+        bell.notify_all();
+    };
+    let job = |k: usize, (first, fore, back): &(f64, Vec<f64>, Vec<f64>)| {
+        let first = *first;
+        // one diagram at a time beside the curves: the second starts with the first, the
+        // next one as soon as the one before it is computed
+        drop(wait_until(&|t| {
+            k < 2 || t.computed.get(k - 1).copied().unwrap_or(true)
+        }));
+        let stopped = || {
+            cancel.is_some_and(|c| c())
+                || turns
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .error
+                    .is_some()
         };
-        let done = |t: &FoldTrack, seconds: f64| {
-            let (lo, hi) = t
-                .points
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| {
-                    (a.0.min(p.parameter), a.1.max(p.parameter))
-                });
-            if t.points.is_empty() {
-                say(&format!(
-                    "  {} not followed: {} ({seconds:.1} s)",
-                    label(t),
-                    t.stops.0
-                ));
-                return;
-            }
-            let at = t.points.iter().find(|p| p.parameter == first);
-            say(&format!(
-                "  {} from {}: {} points over {} in [{}, {}] ({seconds:.1} s)",
-                label(t),
-                at.map_or("the diagram".into(), |p| format!(
-                    "{:.3} m/s, {:.3} mm",
-                    p.speed_m_s,
-                    p.amplitude_m * 1e3
-                )),
-                t.points.len(),
-                spec.key,
-                spec.quantity(lo),
-                spec.quantity(hi),
-            ))
-        };
-        let track = FoldTracking {
-            values: &fore,
-            back: &back,
-            first,
-            model_at: &model_at,
-            kinds: &kinds,
-            skip: &skip,
-            done: Some(&done),
-        };
+        let started = Instant::now();
         say(&format!(
-            "diagram at {} and the curves of cycles from it",
-            spec.show(first)
+            "  diagram at {}: computing (from {:.1} s)",
+            spec.show(first),
+            origin.elapsed().as_secs_f64()
         ));
-        let started = std::time::Instant::now();
-        let hooks = Hooks {
-            progress: None,
-            cancel,
-        };
-        let (_diagram, tracks) =
-            bifurcation::analyse_with_fold_tracks(&study.base.name, &model, &opts, hooks, &track)
-                .map_err(|message| CurveError::Model {
+        let following = Mutex::new(None::<Instant>);
+        let outcome = (|| -> Result<Option<Vec<FoldTrack>>, CurveError> {
+            if stopped() {
+                return Ok(None);
+            }
+            let model = study.model_at(first)?;
+            let plan = study.plan_at(first).map_err(CurveError::Study)?;
+            let mut opts = plan.bifurcation_options();
+            opts.speed_range = spec.speed_range;
+            opts.rtol = spec.rtol;
+            if concurrent && k > 0 {
+                // computed beside an earlier diagram's curves, on this thread alone: the
+                // same diagram (the same segments, integrated one after the other), without
+                // taking the pool's workers from the curves
+                opts.segments = opts.segment_count();
+                opts.parallel = false;
+            }
+            let model_at = |v: f64| study.model_at(v).map_err(|e| e.to_string());
+            let skip = |kind: TrackKind, speed: f64, _amplitude: f64| {
+                let t = turns.lock().unwrap_or_else(PoisonError::into_inner);
+                t.report.curves[start..]
+                    .iter()
+                    .filter(|c| continues(kind, c.kind))
+                    .any(|c| {
+                        c.points.iter().any(|p| {
+                            p.parameter == first && (p.speed_m_s - speed).abs() <= 1e-4 * speed
+                        })
+                    })
+            };
+            let done = |t: &FoldTrack, seconds: f64| {
+                let (lo, hi) = t
+                    .points
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| {
+                        (a.0.min(p.parameter), a.1.max(p.parameter))
+                    });
+                if t.points.is_empty() {
+                    say(&format!(
+                        "    {} not followed: {} ({seconds:.1} s)",
+                        label(t),
+                        t.stops.0
+                    ));
+                    return;
+                }
+                let at = t.points.iter().find(|p| p.parameter == first);
+                say(&format!(
+                    "    {} from {}: {} points over {} in [{}, {}] ({seconds:.1} s)",
+                    label(t),
+                    at.map_or("the diagram".into(), |p| format!(
+                        "{:.3} m/s, {:.3} mm",
+                        p.speed_m_s,
+                        p.amplitude_m * 1e3
+                    )),
+                    t.points.len(),
+                    spec.key,
+                    spec.quantity(lo),
+                    spec.quantity(hi),
+                ))
+            };
+            // the earlier diagrams' curves are in: this diagram's folds may be followed
+            let ready = || {
+                let took = started.elapsed().as_secs_f64();
+                computed(k);
+                drop(wait_until(&|t| t.turn >= k));
+                say(&format!(
+                    "  diagram at {}: computed in {took:.1} s; following its points over the key (from {:.1} s)",
+                    spec.show(first),
+                    origin.elapsed().as_secs_f64()
+                ));
+                *following.lock().unwrap_or_else(PoisonError::into_inner) = Some(Instant::now());
+            };
+            let track = FoldTracking {
+                values: fore,
+                back,
+                first,
+                model_at: &model_at,
+                kinds: &kinds,
+                skip: &skip,
+                done: Some(&done),
+                ready: Some(&ready),
+            };
+            let hooks = Hooks {
+                progress: None,
+                cancel: Some(&stopped),
+            };
+            let (_diagram, tracks) = bifurcation::analyse_with_fold_tracks(
+                &study.base.name,
+                &model,
+                &opts,
+                hooks,
+                &track,
+            )
+            .map_err(|message| CurveError::Model {
                 parameter: first,
                 message,
             })?;
-        diagrams += 1;
-        say(&format!(
-            "  diagram at {}: {} new curves of cycles ({:.1} s with them)",
-            spec.show(first),
-            tracks.len(),
-            started.elapsed().as_secs_f64()
-        ));
-        report.stats.models_built += fore.len() + back.len() + 1;
-        for t in &tracks {
-            if !spec.curves.contains(&kind_and_label(t).0) {
-                // a period doubling when only symmetry breaking was asked, or the reverse
-                continue;
-            }
-            if t.points.is_empty() {
-                report.notes.push(format!(
-                    "a {} of the diagram at {} was not followed: {}",
-                    label(t),
+            Ok(Some(tracks))
+        })();
+        computed(k);
+        let mut t = wait_until(&|t| t.turn >= k);
+        match outcome {
+            Ok(Some(tracks)) => {
+                let followed = following
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .map_or(0.0, |f| f.elapsed().as_secs_f64());
+                say(&format!(
+                    "  diagram at {}: {} new curves of cycles ({followed:.1} s following them)",
                     spec.show(first),
-                    t.stops.0
+                    tracks.len(),
                 ));
-                continue;
+                t.diagrams += 1;
+                add_tracks(spec, &tracks, law, first, t.report);
+                t.report.stats.models_built += fore.len() + back.len() + 1;
             }
-            let index = report.curves.len();
-            for sp in &t.special {
-                report.special_points.push(special_point(sp, index));
+            Ok(None) => {}
+            Err(e) => {
+                if t.error.is_none() {
+                    t.error = Some(e);
+                }
             }
-            report.curves.push(curve(t, law, first));
         }
+        t.turn = k + 1;
+        drop(t);
+        bell.notify_all();
+    };
+    if concurrent {
+        let job = &job;
+        std::thread::scope(|s| {
+            for (k, j) in jobs.iter().enumerate() {
+                s.spawn(move || job(k, j));
+            }
+        });
+    } else {
+        for (k, j) in jobs.iter().enumerate() {
+            job(k, j);
+        }
+    }
+    let Turns {
+        report,
+        diagrams,
+        error,
+        ..
+    } = turns.into_inner().unwrap_or_else(PoisonError::into_inner);
+    if let Some(e) = error {
+        return Err(e);
     }
     let first = first_seed.unwrap_or(spec.range.0);
     for kind in [
@@ -290,6 +394,48 @@ pub(super) fn fold_curves(
     nonlinear_critical_speed(spec, &at_values, report);
     unfollowed_bautin_points(spec, first, report);
     Ok(())
+}
+
+/// The diagrams' shared state while they overlap: the report their curves go to, whose
+/// diagram's curves are added next, which diagrams are computed, how many ran and the first
+/// error.
+struct Turns<'r> {
+    report: &'r mut CurveReport,
+    turn: usize,
+    computed: Vec<bool>,
+    diagrams: usize,
+    error: Option<CurveError>,
+}
+
+/// Adds the curves of the diagram at `first` asked for by `spec` to `report` (a track that
+/// could not be followed becomes a note).
+fn add_tracks(
+    spec: &CurveSpec,
+    tracks: &[FoldTrack],
+    law: crate::contact::creep::CreepLaw,
+    first: f64,
+    report: &mut CurveReport,
+) {
+    for t in tracks {
+        if !spec.curves.contains(&kind_and_label(t).0) {
+            // a period doubling when only symmetry breaking was asked, or the reverse
+            continue;
+        }
+        if t.points.is_empty() {
+            report.notes.push(format!(
+                "a {} of the diagram at {} was not followed: {}",
+                label(t),
+                spec.show(first),
+                t.stops.0
+            ));
+            continue;
+        }
+        let index = report.curves.len();
+        for sp in &t.special {
+            report.special_points.push(special_point(sp, index));
+        }
+        report.curves.push(curve(t, law, first));
+    }
 }
 
 /// A cusp, fold–flip or fold–torus point of the fold curve `curve`.
