@@ -98,6 +98,7 @@ fn padded(c: &mut Criterion) {
                 ..OdeOptions::default()
             },
             parallel: true,
+            busy: None,
             dp_rel: 1e-5,
             segments,
         };

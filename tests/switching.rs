@@ -41,6 +41,7 @@ fn continuation<'a, const N: usize, F: VectorField<N>>(
             ode: ode(1e-12),
             dp_rel: 1e-6,
             parallel: false,
+            busy: None,
             segments,
         },
         params,

@@ -60,6 +60,7 @@ impl<const N: usize> Setup<'_, N> {
             ode: self.ode,
             dp_rel: self.opts.rtol.sqrt(),
             parallel: self.opts.parallel,
+            busy: self.opts.busy.clone(),
             segments,
         }
     }

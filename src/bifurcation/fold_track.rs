@@ -633,6 +633,7 @@ impl<const N: usize> FoldSystem<'_, N> {
             ode: self.setup.ode,
             dp_rel: self.setup.opts.rtol.sqrt(),
             parallel: false,
+            busy: None,
             // single shooting: with interior starts carried from linearisation to
             // linearisation (multiple shooting's condensation), g would depend on where those
             // starts were left, a different function at each iteration; the parallel work is

@@ -65,6 +65,9 @@ pub struct BifurcationOptions {
     /// for a given count the results do not depend on `parallel`, and different counts agree
     /// to the Newton tolerance
     pub segments: usize,
+    /// a flag another computation raises while it has the rayon pool busy: the diagram's
+    /// integrations run serially while it is up (the same diagram); default `None`
+    pub busy: Option<crate::continuation::PoolBusy>,
 }
 
 impl BifurcationOptions {
@@ -81,6 +84,7 @@ impl BifurcationOptions {
             max_points: 400,
             parallel: true,
             segments: 0,
+            busy: None,
         }
     }
 }
@@ -360,6 +364,7 @@ pub fn solve_cycle<const N: usize>(
             ode,
             dp_rel: rtol.sqrt(),
             parallel: true,
+            busy: None,
             segments: 1,
         },
         params,

@@ -432,7 +432,10 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
     /// awake for the run (`keep_awake`), also when it starts on a worker already (under
     /// `ThreadPool::install`); serial runs (a sweep's points) leave the pool as it is.
     pub fn run(&self, start: OrbitPoint<N>, direction: DVector<f64>) -> Branch<N> {
-        if self.shooting.parallel && rayon::current_num_threads() > 1 {
+        if self.shooting.parallel
+            && rayon::current_num_threads() > 1
+            && self.shooting.busy.is_none()
+        {
             return keep_awake(|| self.run_here(start, direction));
         }
         self.run_here(start, direction)

@@ -14,5 +14,5 @@ pub use branch::{
     Branch, BranchPoint, BranchStats, BranchStop, Continuation, ContinuationParams, Rejoin,
     SpecialKind, SpecialPoint,
 };
-pub use orbit::{Floquet, NewtonStop, OrbitPoint, SegmentSeed, Shooting};
+pub use orbit::{Floquet, NewtonStop, OrbitPoint, PoolBusy, SegmentSeed, Shooting};
 pub use switch::{switch_at, Switch, SwitchError};

@@ -37,6 +37,10 @@ pub struct Shooting<'a, const N: usize, F: VectorField<N>> {
     /// monodromy, and the parameter perturbation) on rayon threads; the results are bitwise
     /// identical to the serial run because the integrations are pure and independent
     pub parallel: bool,
+    /// while this flag is up (another computation has the pool's workers), integrate the
+    /// segments one after the other on the calling thread instead (the same numbers); `None`:
+    /// `parallel` alone decides
+    pub busy: Option<PoolBusy>,
     /// relative step of the one-sided difference for ∂φ/∂p; about √rtol balances truncation
     /// against integration noise. Its error only affects the Newton rate and the predictor,
     /// never the converged orbits, nor the folds (where the (x0, T) block is singular).
@@ -119,6 +123,37 @@ impl<const N: usize> SegmentSeed<N> {
             out.push(prev.end + prev.phi * dx + prev.d_t * dt + prev.d_p * dp);
         }
         out
+    }
+}
+
+/// A flag a computation raises while it keeps the rayon pool's workers busy (the curves of
+/// cycles followed beside a diagram): a [`Shooting`] holding it integrates serially while it
+/// is up, and in parallel again when it is down. Linearisations are the same either way; the
+/// flag only decides who computes them. Clones share the flag.
+#[derive(Clone, Debug, Default)]
+pub struct PoolBusy(std::sync::Arc<std::sync::atomic::AtomicBool>);
+
+impl PoolBusy {
+    /// A lowered flag.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Raises (`true`) or lowers the flag.
+    pub fn set(&self, up: bool) {
+        self.0.store(up, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// Whether the flag is up.
+    pub fn is_up(&self) -> bool {
+        self.0.load(std::sync::atomic::Ordering::Relaxed)
+    }
+}
+
+/// Two options are equal when they share the flag.
+impl PartialEq for PoolBusy {
+    fn eq(&self, other: &Self) -> bool {
+        std::sync::Arc::ptr_eq(&self.0, &other.0)
     }
 }
 
@@ -260,7 +295,9 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
         let h = self.dp_rel * (rtol / self.ode.tol.rtol).sqrt() * z.param.abs().max(1.0);
         // one rayon thread: no join (from outside the pool each join is a hand-over to the
         // worker and back, a tenth of the one-thread cone branch in futex calls)
-        let parallel = self.parallel && rayon::current_num_threads() > 1;
+        let parallel = self.parallel
+            && rayon::current_num_threads() > 1
+            && !self.busy.as_ref().is_some_and(PoolBusy::is_up);
         let piece = |(x, h0): (&SVector<f64, N>, &(f64, f64))| {
             let main = || self.flow(x, span, z.param, true, h0.0, rtol);
             let shifted = || self.flow(x, span, z.param + h, false, h0.1, rtol);

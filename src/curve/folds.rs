@@ -7,6 +7,7 @@ use crate::bifurcation::fold_track::{
     FoldSpecial, FoldSpecialKind, FoldTrack, FoldTracking, TrackKind,
 };
 use crate::bifurcation::{self, BranchKind, Hooks};
+use crate::continuation::PoolBusy;
 use crate::stability::HopfKind;
 use std::sync::{Condvar, Mutex, PoisonError};
 use std::time::Instant;
@@ -184,6 +185,8 @@ pub(super) fn fold_curves(
     // or with one thread: one diagram after the other, as before.
     let concurrent = rayon::current_thread_index().is_none() && rayon::current_num_threads() > 1;
     let origin = Instant::now();
+    // up while a diagram's curves are followed
+    let following_now = PoolBusy::new();
     let computed = |k: usize| {
         let mut t = turns.lock().unwrap_or_else(PoisonError::into_inner);
         if let Some(c) = t.computed.get_mut(k) {
@@ -224,11 +227,11 @@ pub(super) fn fold_curves(
             opts.speed_range = spec.speed_range;
             opts.rtol = spec.rtol;
             if concurrent && k > 0 {
-                // computed beside an earlier diagram's curves, on this thread alone: the
-                // same diagram (the same segments, integrated one after the other), without
-                // taking the pool's workers from the curves
+                // beside an earlier diagram's curves: integrated on this thread alone while
+                // curves are followed, on the pool while none are (the same diagram: the same
+                // segments either way)
                 opts.segments = opts.segment_count();
-                opts.parallel = false;
+                opts.busy = Some(following_now.clone());
             }
             let model_at = |v: f64| study.model_at(v).map_err(|e| e.to_string());
             let skip = |kind: TrackKind, speed: f64, _amplitude: f64| {
@@ -283,6 +286,7 @@ pub(super) fn fold_curves(
                     origin.elapsed().as_secs_f64()
                 ));
                 *following.lock().unwrap_or_else(PoisonError::into_inner) = Some(Instant::now());
+                following_now.set(true);
             };
             let track = FoldTracking {
                 values: fore,
@@ -311,6 +315,7 @@ pub(super) fn fold_curves(
             })?;
             Ok(Some(tracks))
         })();
+        following_now.set(false);
         computed(k);
         let mut t = wait_until(&|t| t.turn >= k);
         match outcome {
