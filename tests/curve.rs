@@ -1040,3 +1040,91 @@ fn cusps_are_turning_points_of_the_fold_curves() {
         );
     }
 }
+
+/// The cusp of the DTU bogie's fold curves at about 275 kN s/m, where the two folds it joins
+/// are within 0.01 m/s and 0.04 mm of each other and the fold system's corrector stops on
+/// either side of the turn, is listed as a bracketed cusp between the two curves' ends. Whole
+/// diagrams say the same independently: where both curves are solved and farthest apart, the
+/// diagram has both folds (to 1e-6 in speed), and 2 % of the key's range on the other side
+/// of the cusp it has neither (no fold within 0.1 m/s and 3 % in amplitude of the cusp's).
+#[test]
+fn a_cusp_the_fold_system_cannot_pass_is_bracketed_between_two_folds_that_meet() {
+    let name = "dtu-cooperrider-bogie.toml";
+    let r = curves(name);
+    let s = r
+        .special_points
+        .iter()
+        .find(|s| s.kind == SpecialKind::Cusp && !s.located)
+        .expect("a bracketed cusp");
+    let j = s.other_curve.expect("the cusp's second curve");
+    let (a, b) = (&r.curves[s.curve], &r.curves[j]);
+    // the side of the cusp the two folds exist on
+    let above = a
+        .points
+        .iter()
+        .all(|p| p.parameter >= s.parameter - 1e-3 * 400e3);
+    assert_eq!(
+        above,
+        b.points
+            .iter()
+            .all(|p| p.parameter >= s.parameter - 1e-3 * 400e3),
+        "the two curves lie on different sides of {s:?}"
+    );
+    // the common grid value where the two folds are farthest apart
+    let (p, va, vb) = a
+        .points
+        .iter()
+        .filter_map(|x| {
+            b.points
+                .iter()
+                .find(|y| y.parameter == x.parameter)
+                .map(|y| (x.parameter, x.speed_m_s, y.speed_m_s))
+        })
+        .max_by(|x, y| (x.1 - x.2).abs().total_cmp(&(y.1 - y.2).abs()))
+        .expect("a key value both curves are solved at");
+    assert!(
+        (va - vb).abs() > 1e-6 * va,
+        "the same fold twice at {p}: {va} m/s"
+    );
+    let folds_at = |value: f64| -> Vec<(f64, f64)> {
+        let source = rewritten(name, &r.key, value);
+        let prepared = Prepared::new(source.plan().expect("plan")).expect("model");
+        let d = api::bifurcation(&prepared, Default::default()).expect("diagram");
+        d.special
+            .iter()
+            .filter(|x| x.kind == critspeed::continuation::SpecialKind::Fold && x.located)
+            .map(|x| (x.speed_m_s, x.amplitude_y_m))
+            .collect()
+    };
+    let there = folds_at(p);
+    for v in [va, vb] {
+        assert!(
+            there.iter().any(|f| (f.0 - v).abs() <= 1e-6 * v),
+            "the diagram at {p} has no fold at {v} m/s: {there:?}"
+        );
+    }
+    // the ends' amplitude, and the diagram on the far side of the cusp
+    let amplitude = |c: &critspeed::curve::Curve| {
+        c.points
+            .iter()
+            .min_by(|x, y| {
+                (x.parameter - s.parameter)
+                    .abs()
+                    .total_cmp(&(y.parameter - s.parameter).abs())
+            })
+            .map(|x| x.amplitude_m)
+            .expect("points")
+    };
+    let a_cusp = 0.5 * (amplitude(a) + amplitude(b));
+    let beyond = if above {
+        s.parameter - 0.02 * 400e3
+    } else {
+        s.parameter + 0.02 * 400e3
+    };
+    let far = folds_at(beyond);
+    assert!(
+        far.iter()
+            .all(|f| (f.0 - s.speed_m_s).abs() > 0.1 || (f.1 - a_cusp).abs() > 0.03 * a_cusp),
+        "the diagram at {beyond}, beyond the cusp {s:?} ({a_cusp} m), still has its folds: {far:?}"
+    );
+}

@@ -260,7 +260,8 @@ pub struct SpecialPoint {
     /// index of its curve in [`CurveReport::curves`]
     pub curve: usize,
     /// the other curve through the point (a double Hopf point lies on the curves of both
-    /// pairs), when that curve was continued too
+    /// pairs; a bracketed cusp joins the ends of two fold curves), when that curve was
+    /// continued too
     pub other_curve: Option<usize>,
     /// key value (SI)
     pub parameter: f64,

@@ -131,10 +131,11 @@ pub fn curve(r: &CurveReport) -> Rendered {
     }
     if !r.nonlinear_critical_speed.is_empty() {
         fig.series.push(Series {
+            // short: the legend shares the plot with the curves (the rule is in the docs)
             name: if r.attractor_search.is_empty() {
-                "V_NL (lowest stable-side fold, or supercritical V_H)".into()
+                "V_NL (continuation)".into()
             } else {
-                "V_NL (lowest stable-side fold, supercritical V_H, or the attractor search)".into()
+                "V_NL (continuation or attractor search)".into()
             },
             points: r.nonlinear_critical_speed.clone(),
             style: Style::Points,
@@ -181,8 +182,9 @@ pub fn curve(r: &CurveReport) -> Rendered {
                 )
             })
             .collect();
-        // more than three points: their count (curve.json lists them)
-        let listed = if names.len() > 3 {
+        // more than one point: their count (the printout and curve.json list them), which
+        // keeps the legend narrow enough to leave the curves visible
+        let listed = if names.len() > 1 {
             format!("{} points", names.len())
         } else {
             names.join(", ")
