@@ -170,11 +170,12 @@ pub(super) fn fold_curves(
         computed: vec![false; jobs.len()],
         diagrams: 0,
         error: None,
+        broken: false,
     });
     let bell = Condvar::new();
     let wait_until = |ok: &dyn Fn(&Turns) -> bool| {
         let mut guard = turns.lock().unwrap_or_else(PoisonError::into_inner);
-        while !ok(&guard) {
+        while !guard.broken && !ok(&guard) {
             guard = bell.wait(guard).unwrap_or_else(PoisonError::into_inner);
         }
         guard
@@ -197,6 +198,11 @@ pub(super) fn fold_curves(
     };
     let job = |k: usize, (first, fore, back): &(f64, Vec<f64>, Vec<f64>)| {
         let first = *first;
+        // a panic in this diagram's work must not leave the later ones waiting for its turn
+        let _release = Release(|| {
+            turns.lock().unwrap_or_else(PoisonError::into_inner).broken = true;
+            bell.notify_all();
+        });
         // one diagram at a time beside the curves: the second starts with the first, the
         // next one as soon as the one before it is computed
         drop(wait_until(&|t| {
@@ -411,6 +417,20 @@ struct Turns<'r> {
     computed: Vec<bool>,
     diagrams: usize,
     error: Option<CurveError>,
+    /// a diagram's thread panicked: nobody waits any more (the panic is raised again when
+    /// the threads are joined)
+    broken: bool,
+}
+
+/// Calls its function when dropped during a panic's unwinding.
+struct Release<F: Fn()>(F);
+
+impl<F: Fn()> Drop for Release<F> {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            (self.0)();
+        }
+    }
 }
 
 /// Adds the curves of the diagram at `first` asked for by `spec` to `report` (a track that
