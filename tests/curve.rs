@@ -560,12 +560,9 @@ fn dtu_bogie_v_nl_curve_equals_diagrams_or_the_attractor_search() {
 /// The DTU car over yaw damping 20–640 kN s/m (the trade study's `[curve]`): at the car's own
 /// 166.669 kN s/m V_NL lies on a rear-bogie cycle no branch of the diagram reaches (the
 /// attractor search's 93.17 m/s, docs/attractors.md), so both kinds of check occur; at least 8
-/// values are checked in all (the evidence for the car). Ignored in the default run for
-/// its cost (the car's curves, 14 whole car diagrams and the attractor searches: over 15 min on
-/// two cores); run it with
-/// `cargo test --release --test curve dtu_car -- --ignored`.
+/// values are checked in all. The costliest test of the suite: the car's curves, 14 whole car
+/// diagrams and the attractor searches, about 10 min on two cores.
 #[test]
-#[ignore = "over 15 minutes on two cores; run with --ignored"]
 fn dtu_car_v_nl_curve_equals_diagrams_or_the_attractor_search() {
     let (by_diagram, by_search) = v_nl_curve_checked("dtu-car-yaw-damper-trade.toml");
     assert!(
