@@ -180,10 +180,11 @@ pub(super) fn fold_curves(
         }
         guard
     };
-    // A thread per diagram: the first diagram and every diagram's curves use the pool, the
-    // later diagrams are integrated on their own thread, one at a time, beside the curves.
-    // Inside the pool (a caller that is itself a rayon job, whose blocking could starve it)
-    // or with one thread: one diagram after the other, as before.
+    // A thread per diagram: the first diagram and every diagram's curves use the pool; the
+    // later diagrams, one at a time, are integrated on their own thread while curves are
+    // followed and on the pool while none are (`PoolBusy`). Inside the pool (a caller that
+    // is itself a rayon job, whose blocking could starve it) or with one thread: one diagram
+    // after the other.
     let concurrent = rayon::current_thread_index().is_none() && rayon::current_num_threads() > 1;
     let origin = Instant::now();
     // up while a diagram's curves are followed
