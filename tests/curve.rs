@@ -845,7 +845,8 @@ fn write_study(dir: &Path, name: &str, extra: &str) -> String {
     path.display().to_string()
 }
 
-/// Bad `[curve]` input exits 2 naming key, value and rule; no Hopf point in the range exits 1.
+/// Bad `[curve]` input exits 2 naming key, value and rule; no Hopf point in the range exits 1,
+/// and so do curves of cycles asked for alone that no diagram has a point of (saying so).
 #[test]
 fn bad_curve_input_is_refused_naming_key_value_and_rule() {
     let dir = scratch("curve-bad");
@@ -879,6 +880,14 @@ fn bad_curve_input_is_refused_naming_key_value_and_rule() {
             "[curve]\nkey = \"suspension.lateral_stiffness\"\nfrom = \"100 N/mm\"\nto = \"300 N/mm\"\nspeed_range = [\"1 m/s\", \"20 m/s\"]\n",
             1,
             &["no Hopf point in [1, 20] m/s", "suspension.lateral_stiffness"][..],
+        ),
+        (
+            "[curve]\nkey = \"suspension.lateral_stiffness\"\nfrom = \"200 N/mm\"\nto = \"600 N/mm\"\ncurves = [\"period_doubling\"]\n",
+            1,
+            &[
+                "none of the curves asked for (period_doubling) was found",
+                "no \"period_doubling\" curve",
+            ][..],
         ),
     ];
     for (k, (section, code, words)) in cases.iter().enumerate() {

@@ -92,10 +92,17 @@ pub fn analyse_with_progress(
                 spec.range.1,
                 spec.dimension.si_unit()
             )
-        } else {
+        } else if report.notes.is_empty() {
             format!(
-                "none of the curves asked for ({}) is available yet; ask for \"hopf\"",
+                "none of the curves asked for ({}) was found in the diagrams computed",
                 asked.join(", ")
+            )
+        } else {
+            // the notes say why: no such point in the diagrams, or none could be followed
+            format!(
+                "none of the curves asked for ({}) was found: {}",
+                asked.join(", "),
+                report.notes.join("; ")
             )
         };
         return Err(CurveError::Nothing(why));
