@@ -136,9 +136,11 @@ pub struct FoldTracking<'a> {
     /// what to continue from the diagram's points: its folds, its flips (symmetry-breaking
     /// and period-doubling points), or both
     pub kinds: &'a [TrackKind],
-    /// `skip(kind, speed m/s, amplitude m)`: a point of the diagram not to follow (one a
-    /// curve of that kind already passes through)
-    pub skip: &'a (dyn Fn(TrackKind, f64, f64) -> bool + Sync),
+    /// `skip(kind, symmetric branch, speed m/s, amplitude m)`: a point of the diagram not to
+    /// follow (one a curve of that kind already passes through, or a flip of a kind not asked
+    /// for: a symmetry-breaking point is a flip of a symmetric branch, a period doubling one of
+    /// a full-period branch)
+    pub skip: &'a (dyn Fn(TrackKind, bool, f64, f64) -> bool + Sync),
     /// called once per fold curve when it is done, with the curve and its wall time (s)
     pub done: Option<&'a Done<'a>>,
     /// called once the diagram is done, before its first point is considered for a curve:
@@ -350,7 +352,7 @@ pub(super) fn follow<const N: usize>(
                 // locates it (or says why not, in a note)
                 if sp.kind != wanted
                     || sp.amplitude < MIN_FOLD_AMPLITUDE
-                    || (track.skip)(kind, sp.orbit.param, sp.amplitude)
+                    || (track.skip)(kind, run.symmetric, sp.orbit.param, sp.amplitude)
                 {
                     continue;
                 }
@@ -399,7 +401,7 @@ pub(super) fn follow<const N: usize>(
                 t.points.iter().any(|p| {
                     p.parameter == track.first && (p.speed_m_s - speed).abs() <= 1e-7 * speed
                 })
-            }) || (track.skip)(kind, speed, 0.0)
+            }) || (track.skip)(kind, run.symmetric, speed, 0.0)
         };
         let Some(curve) = system.curve(id, &orbit, track.first, &known) else {
             continue;

@@ -241,7 +241,15 @@ pub(super) fn fold_curves(
                 opts.busy = Some(following_now.clone());
             }
             let model_at = |v: f64| study.model_at(v).map_err(|e| e.to_string());
-            let skip = |kind: TrackKind, speed: f64, _amplitude: f64| {
+            let skip = |kind: TrackKind, symmetric: bool, speed: f64, _amplitude: f64| {
+                let unasked = match (kind, symmetric) {
+                    (TrackKind::Flip, true) => !spec.curves.contains(&CurveKind::SymmetryBreaking),
+                    (TrackKind::Flip, false) => !spec.curves.contains(&CurveKind::PeriodDoubling),
+                    _ => false,
+                };
+                if unasked {
+                    return true;
+                }
                 let t = turns.lock().unwrap_or_else(PoisonError::into_inner);
                 t.report.curves[start..]
                     .iter()
