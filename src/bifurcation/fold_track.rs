@@ -219,8 +219,32 @@ pub struct FoldTrack {
     pub points: Vec<FoldTrackPoint>,
     /// cusps, fold–flip, fold–torus points on the curve, in order along it
     pub special: Vec<FoldSpecial>,
-    /// why each end stopped, in words: (the first point's end, the last point's end)
-    pub stops: (String, String),
+    /// why each end stopped: (the first point's end, the last point's end)
+    pub stops: (TrackStop, TrackStop),
+}
+
+/// Why one end of a [`FoldTrack`] stopped.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TrackStop {
+    /// the corrector found no point beyond the last one at the smallest step (or the steps
+    /// shrank without end next to the Hopf curve): the key value and speed of the last point,
+    /// and why, in words
+    Unsolved {
+        parameter: f64,
+        speed_m_s: f64,
+        message: String,
+    },
+    /// any other end (a bound, a limit, a codimension-two point, cancelled), in words
+    Ended(String),
+}
+
+impl TrackStop {
+    /// In words, with the numbers.
+    pub fn describe(&self) -> &str {
+        match self {
+            TrackStop::Unsolved { message, .. } | TrackStop::Ended(message) => message,
+        }
+    }
 }
 
 /// Bordering vectors of the test condition: `b` ≈ the left and `c` ≈ the right null vector of
@@ -991,7 +1015,7 @@ impl<const N: usize> FoldSystem<'_, N> {
             branch_kind: self.run.kind,
             points: Vec::new(),
             special: Vec::new(),
-            stops: (why.clone(), why),
+            stops: (TrackStop::Ended(why.clone()), TrackStop::Ended(why)),
         };
         let start = match self.start(orbit, first) {
             Ok(s) => s,
@@ -1082,7 +1106,11 @@ impl<const N: usize> FoldSystem<'_, N> {
     }
 
     /// One direction of the curve from `start` (`sign` +1: towards increasing key).
-    fn side(&self, start: &Point<N>, sign: f64) -> (Vec<FoldTrackPoint>, Vec<FoldSpecial>, String) {
+    fn side(
+        &self,
+        start: &Point<N>,
+        sign: f64,
+    ) -> (Vec<FoldTrackPoint>, Vec<FoldSpecial>, TrackStop) {
         let mut out = Vec::new();
         let mut special = Vec::new();
         let mut a = start.clone();
@@ -1093,10 +1121,10 @@ impl<const N: usize> FoldSystem<'_, N> {
         let cancelled = || self.setup.cancel.is_some_and(|c| c());
         let stop = loop {
             if cancelled() {
-                break "cancelled".to_string();
+                break TrackStop::Ended("cancelled".to_string());
             }
             if out.len() >= MAX_POINTS {
-                break format!("{MAX_POINTS} points computed");
+                break TrackStop::Ended(format!("{MAX_POINTS} points computed"));
             }
             // near a generalised Hopf point the fold system degenerates with the amplitude:
             // steps there shrink without end, so the curve ends once they are small
@@ -1115,13 +1143,17 @@ impl<const N: usize> FoldSystem<'_, N> {
                 } else {
                     String::new()
                 };
-                break format!(
-                    "no {} could be solved beyond key value {} ({:.4} m/s, {:.3} mm{angle}): {last_error}{near}",
-                    self.what(),
-                    Self::p(&a.u),
-                    a.u[N + 1],
-                    a.amplitude * 1e3
-                );
+                break TrackStop::Unsolved {
+                    parameter: Self::p(&a.u),
+                    speed_m_s: a.u[N + 1],
+                    message: format!(
+                        "no {} could be solved beyond key value {} ({:.4} m/s, {:.3} mm{angle}): {last_error}{near}",
+                        self.what(),
+                        Self::p(&a.u),
+                        a.u[N + 1],
+                        a.amplitude * 1e3
+                    ),
+                };
             }
             let zp = self.predict(&a.u, &a.tangent, ds);
             let pa = Self::p(&a.u);
@@ -1136,7 +1168,7 @@ impl<const N: usize> FoldSystem<'_, N> {
             };
             if let Some(bound) = bound {
                 if pa == bound {
-                    break format!("end of the key's range ({bound})");
+                    break TrackStop::Ended(format!("end of the key's range ({bound})"));
                 }
                 let t = (bound - pa) / (pz - pa);
                 let zq = &a.u + (&zp - &a.u) * t;
@@ -1155,7 +1187,7 @@ impl<const N: usize> FoldSystem<'_, N> {
                         }
                         out.extend(grid_points);
                         out.push(self.track_point(&c.point, self.grid.contains(&bound)));
-                        break format!("end of the key's range ({bound})");
+                        break TrackStop::Ended(format!("end of the key's range ({bound})"));
                     }
                     Err(e) => {
                         last_error = e;
@@ -1279,7 +1311,7 @@ impl<const N: usize> FoldSystem<'_, N> {
             };
             a = c;
             if let Some(r) = reason {
-                break r;
+                break TrackStop::Ended(r);
             }
         };
         (out, special, stop)

@@ -4,12 +4,14 @@
 //! from the folds and the supercritical V_H.
 
 use crate::bifurcation::fold_track::{
-    FoldSpecial, FoldSpecialKind, FoldTrack, FoldTracking, TrackKind,
+    FoldSpecial, FoldSpecialKind, FoldTrack, FoldTracking, TrackKind, TrackStop,
 };
 use crate::bifurcation::{self, BranchKind, Hooks};
+use crate::contact::creep::CreepLaw;
 use crate::continuation::PoolBusy;
 use crate::stability::HopfKind;
-use std::sync::{Condvar, Mutex, PoisonError};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
 use std::time::Instant;
 
 use super::keyed::KeyedStudy;
@@ -111,11 +113,6 @@ pub(super) fn fold_curves(
     progress: Option<&(dyn Fn(&str) + Sync)>,
     report: &mut CurveReport,
 ) -> Result<(), CurveError> {
-    let say = |line: &str| {
-        if let Some(p) = progress {
-            p(line)
-        }
-    };
     let grid = values(spec);
     let own = study.own_value();
     let mut kinds = Vec::new();
@@ -159,216 +156,40 @@ pub(super) fn fold_curves(
         }
     }
     let first_seed = jobs.first().map(|j| j.0);
-    // The diagrams overlap: while one diagram's folds are followed (on the pool's threads, a
-    // curve's two sides and its tangent flows in parallel, with idle time between), the next
-    // diagrams are computed. The curves stay as they were one diagram at a time: a diagram's
-    // folds are considered for curves only when every earlier diagram's curves are in the
-    // report (`skip` reads them), and curves are added in diagram order.
-    let turns = Mutex::new(Turns {
-        report,
-        turn: 0,
-        computed: vec![false; jobs.len()],
-        diagrams: 0,
-        error: None,
-        broken: false,
-    });
-    let bell = Condvar::new();
-    let wait_until = |ok: &dyn Fn(&Turns) -> bool| {
-        let mut guard = turns.lock().unwrap_or_else(PoisonError::into_inner);
-        while !guard.broken && !ok(&guard) {
-            guard = bell.wait(guard).unwrap_or_else(PoisonError::into_inner);
-        }
-        guard
+    let diagrams = Diagrams {
+        study,
+        spec,
+        cancel,
+        progress,
+        kinds: &kinds,
+        law,
+        start,
+        // Inside the pool (a caller that is itself a rayon job, whose blocking could starve
+        // it) or with one thread: one diagram after the other.
+        concurrent: rayon::current_thread_index().is_none() && rayon::current_num_threads() > 1,
+        origin: Instant::now(),
+        turns: Mutex::new(Turns {
+            report,
+            turn: 0,
+            computed: vec![false; jobs.len()],
+            diagrams: 0,
+            error: None,
+            broken: false,
+        }),
+        bell: Condvar::new(),
+        following_now: PoolBusy::new(),
+        failed: AtomicBool::new(false),
     };
-    // A thread per diagram: the first diagram and every diagram's curves use the pool; the
-    // later diagrams, one at a time, are integrated on their own thread while curves are
-    // followed and on the pool while none are (`PoolBusy`). Inside the pool (a caller that
-    // is itself a rayon job, whose blocking could starve it) or with one thread: one diagram
-    // after the other.
-    let concurrent = rayon::current_thread_index().is_none() && rayon::current_num_threads() > 1;
-    let origin = Instant::now();
-    // up while a diagram's curves are followed
-    let following_now = PoolBusy::new();
-    let computed = |k: usize| {
-        let mut t = turns.lock().unwrap_or_else(PoisonError::into_inner);
-        if let Some(c) = t.computed.get_mut(k) {
-            *c = true;
-        }
-        drop(t);
-        bell.notify_all();
-    };
-    let job = |k: usize, (first, fore, back): &(f64, Vec<f64>, Vec<f64>)| {
-        let first = *first;
-        // a panic in this diagram's work must not leave the later ones waiting for its turn
-        let _release = Release(|| {
-            turns.lock().unwrap_or_else(PoisonError::into_inner).broken = true;
-            bell.notify_all();
-        });
-        // one diagram at a time beside the curves: the second starts with the first, the
-        // next one as soon as the one before it is computed
-        drop(wait_until(&|t| {
-            k < 2 || t.computed.get(k - 1).copied().unwrap_or(true)
-        }));
-        let stopped = || {
-            cancel.is_some_and(|c| c())
-                || turns
-                    .lock()
-                    .unwrap_or_else(PoisonError::into_inner)
-                    .error
-                    .is_some()
-        };
-        let started = Instant::now();
-        say(&format!(
-            "  diagram at {}: computing (from {:.1} s)",
-            spec.show(first),
-            origin.elapsed().as_secs_f64()
-        ));
-        let following = Mutex::new(None::<Instant>);
-        let outcome = (|| -> Result<Option<Vec<FoldTrack>>, CurveError> {
-            if stopped() {
-                return Ok(None);
-            }
-            let model = study.model_at(first)?;
-            let plan = study.plan_at(first).map_err(CurveError::Study)?;
-            let mut opts = plan.bifurcation_options();
-            opts.speed_range = spec.speed_range;
-            opts.rtol = spec.rtol;
-            if concurrent && k > 0 {
-                // beside an earlier diagram's curves: integrated on this thread alone while
-                // curves are followed, on the pool while none are (the same diagram: the same
-                // segments either way)
-                opts.segments = opts.segment_count();
-                opts.busy = Some(following_now.clone());
-            }
-            let model_at = |v: f64| study.model_at(v).map_err(|e| e.to_string());
-            let skip = |kind: TrackKind, symmetric: bool, speed: f64, _amplitude: f64| {
-                let unasked = match (kind, symmetric) {
-                    (TrackKind::Flip, true) => !spec.curves.contains(&CurveKind::SymmetryBreaking),
-                    (TrackKind::Flip, false) => !spec.curves.contains(&CurveKind::PeriodDoubling),
-                    _ => false,
-                };
-                if unasked {
-                    return true;
-                }
-                let t = turns.lock().unwrap_or_else(PoisonError::into_inner);
-                t.report.curves[start..]
-                    .iter()
-                    .filter(|c| continues(kind, c.kind))
-                    .any(|c| {
-                        c.points.iter().any(|p| {
-                            p.parameter == first && (p.speed_m_s - speed).abs() <= 1e-4 * speed
-                        })
-                    })
-            };
-            let done = |t: &FoldTrack, seconds: f64| {
-                let (lo, hi) = t
-                    .points
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| {
-                        (a.0.min(p.parameter), a.1.max(p.parameter))
-                    });
-                if t.points.is_empty() {
-                    say(&format!(
-                        "    {} not followed: {} ({seconds:.1} s)",
-                        label(t),
-                        t.stops.0
-                    ));
-                    return;
-                }
-                let at = t.points.iter().find(|p| p.parameter == first);
-                say(&format!(
-                    "    {} from {}: {} points over {} in [{}, {}] ({seconds:.1} s)",
-                    label(t),
-                    at.map_or("the diagram".into(), |p| format!(
-                        "{:.3} m/s, {:.3} mm",
-                        p.speed_m_s,
-                        p.amplitude_m * 1e3
-                    )),
-                    t.points.len(),
-                    spec.key,
-                    spec.quantity(lo),
-                    spec.quantity(hi),
-                ))
-            };
-            // the earlier diagrams' curves are in: this diagram's folds may be followed
-            let ready = || {
-                let took = started.elapsed().as_secs_f64();
-                computed(k);
-                drop(wait_until(&|t| t.turn >= k));
-                say(&format!(
-                    "  diagram at {}: computed in {took:.1} s; following its points over the key (from {:.1} s)",
-                    spec.show(first),
-                    origin.elapsed().as_secs_f64()
-                ));
-                *following.lock().unwrap_or_else(PoisonError::into_inner) = Some(Instant::now());
-                following_now.set(true);
-            };
-            let track = FoldTracking {
-                values: fore,
-                back,
-                first,
-                model_at: &model_at,
-                kinds: &kinds,
-                skip: &skip,
-                done: Some(&done),
-                ready: Some(&ready),
-            };
-            let hooks = Hooks {
-                progress: None,
-                cancel: Some(&stopped),
-            };
-            let (_diagram, tracks) = bifurcation::analyse_with_fold_tracks(
-                &study.base.name,
-                &model,
-                &opts,
-                hooks,
-                &track,
-            )
-            .map_err(|message| CurveError::Model {
-                parameter: first,
-                message,
-            })?;
-            Ok(Some(tracks))
-        })();
-        following_now.set(false);
-        computed(k);
-        let mut t = wait_until(&|t| t.turn >= k);
-        match outcome {
-            Ok(Some(tracks)) => {
-                let followed = following
-                    .lock()
-                    .unwrap_or_else(PoisonError::into_inner)
-                    .map_or(0.0, |f| f.elapsed().as_secs_f64());
-                say(&format!(
-                    "  diagram at {}: {} new curves of cycles ({followed:.1} s following them)",
-                    spec.show(first),
-                    tracks.len(),
-                ));
-                t.diagrams += 1;
-                add_tracks(spec, &tracks, law, first, t.report);
-                t.report.stats.models_built += fore.len() + back.len() + 1;
-            }
-            Ok(None) => {}
-            Err(e) => {
-                if t.error.is_none() {
-                    t.error = Some(e);
-                }
-            }
-        }
-        t.turn = k + 1;
-        drop(t);
-        bell.notify_all();
-    };
-    if concurrent {
-        let job = &job;
+    if diagrams.concurrent {
+        let diagrams = &diagrams;
         std::thread::scope(|s| {
             for (k, j) in jobs.iter().enumerate() {
-                s.spawn(move || job(k, j));
+                s.spawn(move || diagrams.run(k, j));
             }
         });
     } else {
         for (k, j) in jobs.iter().enumerate() {
-            job(k, j);
+            diagrams.run(k, j);
         }
     }
     let Turns {
@@ -376,7 +197,10 @@ pub(super) fn fold_curves(
         diagrams,
         error,
         ..
-    } = turns.into_inner().unwrap_or_else(PoisonError::into_inner);
+    } = diagrams
+        .turns
+        .into_inner()
+        .unwrap_or_else(PoisonError::into_inner);
     if let Some(e) = error {
         return Err(e);
     }
@@ -415,6 +239,257 @@ pub(super) fn fold_curves(
     nonlinear_critical_speed(spec, &at_values, report);
     unfollowed_bautin_points(spec, first, report);
     Ok(())
+}
+
+/// The diagrams of one run and what they share.
+///
+/// The diagrams overlap: while one diagram's folds are followed (on the pool's threads, a
+/// curve's two sides and its tangent flows in parallel, with idle time between), the next
+/// diagrams are computed. The curves stay as they were one diagram at a time: a diagram's
+/// folds are considered for curves only when every earlier diagram's curves are in the report
+/// (`skip` reads them), and curves are added in diagram order.
+///
+/// A thread per diagram: the first diagram and every diagram's curves use the pool; the later
+/// diagrams, one at a time, are integrated on their own thread while curves are followed and
+/// on the pool while none are (`PoolBusy`).
+struct Diagrams<'a, 'r> {
+    study: &'a KeyedStudy,
+    spec: &'a CurveSpec,
+    cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
+    progress: Option<&'a (dyn Fn(&str) + Sync)>,
+    /// what is followed from each diagram
+    kinds: &'a [TrackKind],
+    law: CreepLaw,
+    /// where this run's curves start in the report
+    start: usize,
+    /// a thread per diagram (else one diagram after the other)
+    concurrent: bool,
+    /// when the run started (for the progress lines)
+    origin: Instant,
+    turns: Mutex<Turns<'r>>,
+    /// rung when a diagram is computed or its curves are added
+    bell: Condvar,
+    /// up while a diagram's curves are followed
+    following_now: PoolBusy,
+    /// a diagram failed: the others stop
+    failed: AtomicBool,
+}
+
+/// The diagram at `.0`, with the pinned key values beyond it (`.1`) and before it (`.2`).
+type Job = (f64, Vec<f64>, Vec<f64>);
+
+impl<'r> Diagrams<'_, 'r> {
+    fn say(&self, line: &str) {
+        if let Some(p) = self.progress {
+            p(line)
+        }
+    }
+
+    /// The shared state once `ok` holds of it (or a diagram's thread has panicked).
+    fn wait_until(&self, ok: &dyn Fn(&Turns) -> bool) -> MutexGuard<'_, Turns<'r>> {
+        let mut guard = self.turns.lock().unwrap_or_else(PoisonError::into_inner);
+        while !guard.broken && !ok(&guard) {
+            guard = self
+                .bell
+                .wait(guard)
+                .unwrap_or_else(PoisonError::into_inner);
+        }
+        guard
+    }
+
+    /// Diagram `k` is computed (its folds may now be considered, the next diagram may start).
+    fn computed(&self, k: usize) {
+        let mut t = self.turns.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(c) = t.computed.get_mut(k) {
+            *c = true;
+        }
+        drop(t);
+        self.bell.notify_all();
+    }
+
+    /// Cancelled, or an earlier diagram failed.
+    fn stopped(&self) -> bool {
+        self.cancel.is_some_and(|c| c()) || self.failed.load(Ordering::Relaxed)
+    }
+
+    /// Diagram `k`: computed when its turn to be computed comes, its folds followed when
+    /// every earlier diagram's curves are in, its curves (or its error) added then.
+    fn run(&self, k: usize, job: &Job) {
+        // a panic in this diagram's work must not leave the later ones waiting for its turn
+        let _release = Release(|| {
+            self.turns
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .broken = true;
+            self.bell.notify_all();
+        });
+        // one diagram at a time beside the curves: the second starts with the first, the
+        // next one as soon as the one before it is computed
+        drop(self.wait_until(&|t| k < 2 || t.computed.get(k - 1).copied().unwrap_or(true)));
+        self.say(&format!(
+            "  diagram at {}: computing (from {:.1} s)",
+            self.spec.show(job.0),
+            self.origin.elapsed().as_secs_f64()
+        ));
+        let following = Mutex::new(None::<Instant>);
+        let outcome = self.compute(k, job, &following);
+        self.following_now.set(false);
+        self.computed(k);
+        let mut t = self.wait_until(&|t| t.turn >= k);
+        match outcome {
+            Ok(Some(tracks)) => {
+                let followed = following
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .map_or(0.0, |f| f.elapsed().as_secs_f64());
+                self.say(&format!(
+                    "  diagram at {}: {} new curves of cycles ({followed:.1} s following them)",
+                    self.spec.show(job.0),
+                    tracks.len(),
+                ));
+                t.diagrams += 1;
+                add_tracks(self.spec, &tracks, self.law, job.0, t.report);
+                t.report.stats.models_built += job.1.len() + job.2.len() + 1;
+            }
+            Ok(None) => {}
+            Err(e) => {
+                if t.error.is_none() {
+                    t.error = Some(e);
+                }
+                self.failed.store(true, Ordering::Relaxed);
+            }
+        }
+        t.turn = k + 1;
+        drop(t);
+        self.bell.notify_all();
+    }
+
+    /// Diagram `k`'s whole diagram and the curves followed from it (`None`: stopped before
+    /// it started); `following` is set when the following starts.
+    fn compute(
+        &self,
+        k: usize,
+        (first, fore, back): &Job,
+        following: &Mutex<Option<Instant>>,
+    ) -> Result<Option<Vec<FoldTrack>>, CurveError> {
+        let first = *first;
+        let started = Instant::now();
+        if self.stopped() {
+            return Ok(None);
+        }
+        let model = self.study.model_at(first)?;
+        let plan = self.study.plan_at(first).map_err(CurveError::Study)?;
+        let mut opts = plan.bifurcation_options();
+        opts.speed_range = self.spec.speed_range;
+        opts.rtol = self.spec.rtol;
+        if self.concurrent && k > 0 {
+            // beside an earlier diagram's curves: integrated on this thread alone while
+            // curves are followed, on the pool while none are (the same diagram: the same
+            // segments either way)
+            opts.segments = opts.segment_count();
+            opts.busy = Some(self.following_now.clone());
+        }
+        let model_at = |v: f64| self.study.model_at(v).map_err(|e| e.to_string());
+        let skip = |kind: TrackKind, symmetric: bool, speed: f64, _amplitude: f64| {
+            self.skip(first, kind, symmetric, speed)
+        };
+        let done = |t: &FoldTrack, seconds: f64| self.followed(first, t, seconds);
+        // the earlier diagrams' curves are in: this diagram's folds may be followed
+        let ready = || {
+            let took = started.elapsed().as_secs_f64();
+            self.computed(k);
+            drop(self.wait_until(&|t| t.turn >= k));
+            self.say(&format!(
+                "  diagram at {}: computed in {took:.1} s; following its points over the key (from {:.1} s)",
+                self.spec.show(first),
+                self.origin.elapsed().as_secs_f64()
+            ));
+            *following.lock().unwrap_or_else(PoisonError::into_inner) = Some(Instant::now());
+            self.following_now.set(true);
+        };
+        let track = FoldTracking {
+            values: fore,
+            back,
+            first,
+            model_at: &model_at,
+            kinds: self.kinds,
+            skip: &skip,
+            done: Some(&done),
+            ready: Some(&ready),
+        };
+        let stopped = || self.stopped();
+        let hooks = Hooks {
+            progress: None,
+            cancel: Some(&stopped),
+        };
+        let (_diagram, tracks) = bifurcation::analyse_with_fold_tracks(
+            &self.study.base.name,
+            &model,
+            &opts,
+            hooks,
+            &track,
+        )
+        .map_err(|message| CurveError::Model {
+            parameter: first,
+            message,
+        })?;
+        Ok(Some(tracks))
+    }
+
+    /// Whether the diagram at `first`'s point of `kind` (a cycle at `speed`) is not followed:
+    /// a flip of a kind not asked for, or a point an earlier curve already passes through.
+    fn skip(&self, first: f64, kind: TrackKind, symmetric: bool, speed: f64) -> bool {
+        let spec = self.spec;
+        let unasked = match (kind, symmetric) {
+            (TrackKind::Flip, true) => !spec.curves.contains(&CurveKind::SymmetryBreaking),
+            (TrackKind::Flip, false) => !spec.curves.contains(&CurveKind::PeriodDoubling),
+            _ => false,
+        };
+        if unasked {
+            return true;
+        }
+        let t = self.turns.lock().unwrap_or_else(PoisonError::into_inner);
+        t.report.curves[self.start..]
+            .iter()
+            .filter(|c| continues(kind, c.kind))
+            .any(|c| {
+                c.points
+                    .iter()
+                    .any(|p| p.parameter == first && (p.speed_m_s - speed).abs() <= 1e-4 * speed)
+            })
+    }
+
+    /// The progress line of a curve followed from the diagram at `first` in `seconds`.
+    fn followed(&self, first: f64, t: &FoldTrack, seconds: f64) {
+        let (lo, hi) = t
+            .points
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| {
+                (a.0.min(p.parameter), a.1.max(p.parameter))
+            });
+        if t.points.is_empty() {
+            self.say(&format!(
+                "    {} not followed: {} ({seconds:.1} s)",
+                label(t),
+                t.stops.0.describe()
+            ));
+            return;
+        }
+        let at = t.points.iter().find(|p| p.parameter == first);
+        self.say(&format!(
+            "    {} from {}: {} points over {} in [{}, {}] ({seconds:.1} s)",
+            label(t),
+            at.map_or("the diagram".into(), |p| format!(
+                "{:.3} m/s, {:.3} mm",
+                p.speed_m_s,
+                p.amplitude_m * 1e3
+            )),
+            t.points.len(),
+            self.spec.key,
+            self.spec.quantity(lo),
+            self.spec.quantity(hi),
+        ))
+    }
 }
 
 /// The diagrams' shared state while they overlap: the report their curves go to, whose
@@ -461,7 +536,7 @@ fn add_tracks(
                 "a {} of the diagram at {} was not followed: {}",
                 label(t),
                 spec.show(first),
-                t.stops.0
+                t.stops.0.describe()
             ));
             continue;
         }
@@ -510,8 +585,19 @@ fn curve(t: &FoldTrack, law: crate::contact::creep::CreepLaw, first: f64) -> Cur
             torus_angle_rad: p.angle_rad,
         })
         .collect();
-    let end = |message: &String| CurveStop::Lost {
-        message: message.clone(),
+    let end = |stop: &TrackStop| match stop {
+        TrackStop::Unsolved {
+            parameter,
+            speed_m_s,
+            message,
+        } => CurveStop::Unsolved {
+            parameter: *parameter,
+            speed_m_s: *speed_m_s,
+            message: message.clone(),
+        },
+        TrackStop::Ended(message) => CurveStop::Lost {
+            message: message.clone(),
+        },
     };
     Curve {
         kind: kind_and_label(t).0,
@@ -659,13 +745,6 @@ fn nonlinear_critical_speed(spec: &CurveSpec, values: &[f64], report: &mut Curve
     }
 }
 
-/// Whether a fold curve's end is one where no fold could be solved beyond the last point
-/// (the fold system's corrector failed at the smallest step), rather than a bound or a
-/// generalised Hopf point.
-fn unsolved_end(stop: &CurveStop) -> bool {
-    matches!(stop, CurveStop::Lost { message } if message.contains("could be solved beyond"))
-}
-
 /// Cusps the fold system could not pass, bracketed between the ends of two fold curves.
 ///
 /// Near a cusp of cycles the two folds it joins are nearly one: on the DTU bogie at
@@ -689,7 +768,7 @@ fn cusps_where_curves_meet(spec: &CurveSpec, start: usize, report: &mut CurveRep
             (&c.stops.0, &c.points[0], &c.points[1]),
             (&c.stops.1, &c.points[n - 1], &c.points[n - 2]),
         ] {
-            if unsolved_end(stop) {
+            if matches!(stop, CurveStop::Unsolved { .. }) {
                 let inward = to_p(spec, next.parameter) - to_p(spec, end.parameter);
                 ends.push((i, end, inward.signum()));
             }

@@ -153,7 +153,14 @@ pub enum CurveStop {
     Cancelled,
     /// a model could not be built or evaluated
     Failed { message: String },
-    /// a fold of cycles was not found again at the next key value (why, in words)
+    /// no fold (flip, torus point) of cycles could be solved beyond the last point at the
+    /// smallest step: that point's key value (SI) and speed, and why, in words
+    Unsolved {
+        parameter: f64,
+        speed_m_s: f64,
+        message: String,
+    },
+    /// a curve of cycles ended otherwise (a bound, a limit, a codimension-two point), in words
     Lost { message: String },
 }
 
@@ -181,7 +188,7 @@ impl CurveStop {
             CurveStop::Closed => "the curve closed on itself".into(),
             CurveStop::Cancelled => "cancelled".into(),
             CurveStop::Failed { message } => format!("failed: {message}"),
-            CurveStop::Lost { message } => message.clone(),
+            CurveStop::Unsolved { message, .. } | CurveStop::Lost { message } => message.clone(),
         }
     }
 }
