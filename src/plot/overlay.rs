@@ -4,7 +4,7 @@
 use super::geom::{sample_run, Rect};
 use super::palette::{viridis, AXIS, MARKER, TEXT, WHITE};
 use super::panel::{font, Area, Chart, Metrics};
-use super::prepare::{Bar, Prepared};
+use super::prepare::{Bar, Item, Mark, Prepared};
 use super::scale::{format_value, text_width};
 use super::{backend_err, PlotError};
 use plotters::element::DashedPathElement;
@@ -154,14 +154,8 @@ fn obstacles(p: &Prepared, pw: f64, ph: f64, step: f64) -> Vec<(f64, f64)> {
     out
 }
 
-/// Draw the legend (if any series is named) at the candidate position that
-/// covers the fewest data samples and no marker label.
-pub(crate) fn draw_legend<'a, 'b: 'a>(
-    chart: &mut Chart<'a, 'b>,
-    p: &Prepared,
-    labels: &[LabelBox],
-    m: &Metrics,
-) -> Result<(), PlotError> {
+/// The legend's width and height (device units), if any series is named.
+pub(crate) fn legend_size(p: &Prepared, m: &Metrics) -> Option<(f64, f64)> {
     let names: Vec<&str> = p
         .items
         .iter()
@@ -169,18 +163,38 @@ pub(crate) fn draw_legend<'a, 'b: 'a>(
         .filter(|n| !n.is_empty())
         .collect();
     if names.is_empty() {
-        return Ok(());
+        return None;
     }
-    let (pw, ph) = chart.plotting_area().dim_in_pixel();
-    let (pw, ph) = (f64::from(pw), f64::from(ph));
-    let (pad, swatch, inset) = (m.px(8.0), m.px(32.0), m.px(8.0));
-    // Same estimate as plotters' font-less layout, so the avoided box is the drawn box.
     let text_w = names
         .iter()
-        .map(|n| n.len() as f64 * 0.7 * m.small / 1.24)
+        .map(|n| text_width(n, m.small))
         .fold(0.0, f64::max);
-    let lw = text_w + swatch + 2.0 * pad;
-    let lh = (names.len() - 1) as f64 * 1.25 * 1.24 * m.small + m.small + 2.0 * pad;
+    let lw = text_w + LEGEND_SWATCH * m.u + 2.0 * LEGEND_PAD * m.u;
+    let lh = (names.len() - 1) as f64 * legend_pitch(m) + m.small + 2.0 * LEGEND_PAD * m.u;
+    Some((lw, lh))
+}
+
+/// The legend's padding and the width of its swatch column (before scaling).
+const LEGEND_PAD: f64 = 8.0;
+const LEGEND_SWATCH: f64 = 32.0;
+
+/// From one legend line to the next (device units).
+fn legend_pitch(m: &Metrics) -> f64 {
+    1.55 * m.small
+}
+
+/// The legend's place inside the plot area (top-left corner, plot-area pixels) that covers
+/// the fewest data samples and no marker label, and how many data samples it covers there.
+pub(crate) fn legend_inside(
+    chart: &Chart,
+    p: &Prepared,
+    labels: &[LabelBox],
+    (lw, lh): (f64, f64),
+    m: &Metrics,
+) -> ((f64, f64), usize) {
+    let (pw, ph) = chart.plotting_area().dim_in_pixel();
+    let (pw, ph) = (f64::from(pw), f64::from(ph));
+    let inset = m.px(8.0);
     let samples = obstacles(p, pw, ph, m.px(4.0));
     let (right, bottom) = (pw - lw - inset, ph - lh - inset);
     let (mid_x, mid_y) = ((pw - lw) / 2.0, (ph - lh) / 2.0);
@@ -203,32 +217,104 @@ pub(crate) fn draw_legend<'a, 'b: 'a>(
         (right, mid_y),
         (inset, mid_y),
     ];
-    let score = |&(x0, y0): &(f64, f64)| {
-        let e = m.px(3.0);
+    let e = m.px(3.0);
+    let hits = |&(x0, y0): &(f64, f64)| {
         let r = Rect {
             x0: x0 - e,
             x1: x0 + lw + e,
             y0: y0 - e,
             y1: y0 + lh + e,
         };
-        let hits = samples.iter().filter(|s| r.contains(**s)).count();
-        hits + 10_000 * labels.iter().filter(|b| b.rect.overlaps(&r)).count()
+        let data = samples.iter().filter(|s| r.contains(**s)).count();
+        (labels.iter().filter(|b| b.rect.overlaps(&r)).count(), data)
     };
-    let (x0, y0) = candidates
+    candidates
         .iter()
-        .min_by_key(|c| score(c))
-        .copied()
-        .unwrap_or((inset, inset));
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::Coordinate(x0 as i32, y0 as i32))
-        .margin(pad as u32)
-        .legend_area_size(swatch as u32)
-        .border_style(AXIS.mix(0.5))
-        .background_style(WHITE.mix(0.9))
-        .label_font(font(m.small).color(&TEXT))
-        .draw()
-        .map_err(backend_err)
+        .map(|c| (*c, hits(c)))
+        .min_by_key(|(_, h)| *h)
+        .map_or(((inset, inset), 0), |(c, (_, data))| (c, data))
+}
+
+/// Horizontal space (device units) a legend of width `lw` takes right of the plot.
+pub(crate) fn legend_outside_width(lw: f64, m: &Metrics) -> f64 {
+    lw + m.px(12.0)
+}
+
+/// Draw the legend (if any series is named) with its top-left corner at `at` (plot-area
+/// pixels; right of the plot area when `at.0` is beyond its width).
+///
+/// Drawn here on the whole panel, not with plotters' series labels: those are clipped to
+/// the plot area, and a legend beside the plot lies outside it.
+pub(crate) fn draw_legend(
+    area: &Area,
+    chart: &Chart,
+    p: &Prepared,
+    at: (f64, f64),
+    m: &Metrics,
+) -> Result<(), PlotError> {
+    let Some((lw, lh)) = legend_size(p, m) else {
+        return Ok(());
+    };
+    let (xr, yr) = chart.plotting_area().get_pixel_range();
+    let (bx, by) = area.get_base_pixel();
+    let x0 = f64::from(xr.start - bx) + at.0;
+    let y0 = f64::from(yr.start - by) + at.1;
+    let corners = [(x0 as i32, y0 as i32), ((x0 + lw) as i32, (y0 + lh) as i32)];
+    area.draw(&Rectangle::new(corners, WHITE.mix(0.9).filled()))
+        .map_err(backend_err)?;
+    area.draw(&Rectangle::new(corners, AXIS.mix(0.5).stroke_width(m.thin)))
+        .map_err(backend_err)?;
+    let pad = LEGEND_PAD * m.u;
+    let style = font(m.small)
+        .color(&TEXT)
+        .pos(Pos::new(HPos::Left, VPos::Center));
+    let named = p.items.iter().filter(|i| !i.name.is_empty());
+    for (k, it) in named.enumerate() {
+        let y = (y0 + pad + 0.5 * m.small + k as f64 * legend_pitch(m)) as i32;
+        draw_swatch(area, it, ((x0 + pad) as i32, y), m)?;
+        let tx = (x0 + pad + LEGEND_SWATCH * m.u) as i32;
+        area.draw(&Text::new(it.name.as_str(), (tx, y), style.clone()))
+            .map_err(backend_err)?;
+    }
+    Ok(())
+}
+
+/// An item's mark in the legend, its left end at `(x, y)` (panel pixels).
+fn draw_swatch(area: &Area, it: &Item, (x, y): (i32, i32), m: &Metrics) -> Result<(), PlotError> {
+    let (dash, gap) = m.dash;
+    let dot = m.dot;
+    let (len, step) = (m.px(24.0) as i32, m.px(9.0) as i32);
+    let style = it.colour.stroke_width(m.line);
+    let fill = it.colour.filled();
+    let mid = (x + len / 2, y);
+    match it.mark {
+        Mark::Line { dashed: false } => {
+            area.draw(&PathElement::new(vec![(x, y), (x + len, y)], style))
+        }
+        Mark::Line { dashed: true } => area.draw(&DashedPathElement::new(
+            vec![(x, y), (x + len, y)],
+            dash,
+            gap,
+            style,
+        )),
+        Mark::Points => area.draw(&Circle::new(mid, dot, fill)),
+        Mark::Above => area.draw(&TriangleMarker::new(mid, 2 * dot, fill)),
+        Mark::Crosses => area.draw(&Cross::new(mid, 2 * dot, style)),
+        Mark::Shade => area.draw(&Rectangle::new(
+            [(x, y - dot as i32), (x + len, y + dot as i32)],
+            it.colour.mix(0.16).filled(),
+        )),
+        Mark::Coloured => {
+            let c = |t: f64| {
+                let dx = ((t - 0.5) * 2.0 * f64::from(step)) as i32;
+                Circle::new((mid.0 + dx, y), dot, viridis(t).filled())
+            };
+            area.draw(&c(0.1))
+                .and_then(|()| area.draw(&c(0.5)))
+                .and_then(|()| area.draw(&c(0.9)))
+        }
+    }
+    .map_err(backend_err)
 }
 
 fn value_width(b: &Bar, m: &Metrics) -> f64 {

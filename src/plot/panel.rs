@@ -1,7 +1,7 @@
 //! Layout and drawing of one figure panel: frame, axes, grid, series.
 
 use super::overlay;
-use super::palette::{viridis, AXIS, GRID, TEXT};
+use super::palette::{AXIS, GRID, TEXT};
 use super::prepare::{Mark, Prepared};
 use super::scale::{format_tick, format_value, text_width, tick_decimals, Axis};
 use super::{backend_err, PlotError, SUPERSAMPLE};
@@ -119,29 +119,54 @@ pub(crate) fn draw(area: &Area, p: &Prepared) -> Result<(), PlotError> {
     let ny = ((plot_h / (4.0 * m.tick)) as usize).clamp(3, 8);
     let yd = tick_decimals(&p.y.ticks(ny));
     let y_area = m.px(18.0) + widest(&p.y.ticks(ny), yd, m.tick) + 1.2 * m.label;
-    let plot_w = w - 2.0 * m.margin - y_area - bar_space;
-    let (nx, xd) = x_ticks(&p.x, plot_w, &m);
+    let build = |right: f64| {
+        ChartBuilder::on(area)
+            .margin(m.margin as u32)
+            .margin_top((m.margin + title_h) as u32)
+            .margin_right((m.margin + right) as u32)
+            .x_label_area_size(x_area as u32)
+            .y_label_area_size(y_area as u32)
+            .build_cartesian_2d(p.x.lo..p.x.hi, p.y.lo..p.y.hi)
+            .map_err(backend_err)
+    };
     let log_x = p.x_log.then(|| log_x_ticks(&p.x));
     // Room for half of the last x tick label when it sits at the right edge.
-    let x_overhang = match &log_x {
-        None => widest(&p.x.ticks(nx), xd, m.tick) / 2.0,
-        Some(t) => {
-            t.iter()
-                .map(|t| text_width(&t.1, m.tick))
-                .fold(0.0, f64::max)
-                / 2.0
-        }
+    let overhang = |nx: usize, xd: usize| {
+        let half = match &log_x {
+            None => widest(&p.x.ticks(nx), xd, m.tick) / 2.0,
+            Some(t) => {
+                t.iter()
+                    .map(|t| text_width(&t.1, m.tick))
+                    .fold(0.0, f64::max)
+                    / 2.0
+            }
+        };
+        (half - m.margin + m.px(2.0)).max(0.0)
     };
-    let x_overhang = (x_overhang - m.margin + m.px(2.0)).max(0.0);
-
-    let mut chart = ChartBuilder::on(area)
-        .margin(m.margin as u32)
-        .margin_top((m.margin + title_h) as u32)
-        .margin_right((m.margin + bar_space.max(x_overhang)) as u32)
-        .x_label_area_size(x_area as u32)
-        .y_label_area_size(y_area as u32)
-        .build_cartesian_2d(p.x.lo..p.x.hi, p.y.lo..p.y.hi)
-        .map_err(backend_err)?;
+    let plot_w = w - 2.0 * m.margin - y_area - bar_space;
+    let (nx, xd) = x_ticks(&p.x, plot_w, &m);
+    let mut chart = build(bar_space.max(overhang(nx, xd)))?;
+    let mut labels = overlay::layout_labels(&chart, p, &m);
+    // The legend goes inside the plot where it covers no data; where every place inside
+    // covers some, right of the plot (and of the colour bars) if that leaves the plot at
+    // least 60 % of the width and the legend fits its height.
+    let legend = overlay::legend_size(p, &m).map(|size| {
+        let inside = overlay::legend_inside(&chart, p, &labels, size, &m);
+        (size, inside)
+    });
+    let mut legend_at = legend.map(|(_, (at, _))| at);
+    let (mut nx, mut xd) = (nx, xd);
+    if let Some(((lw, lh), (_, covered))) = legend {
+        let outside = overlay::legend_outside_width(lw, &m);
+        let (_, ph) = chart.plotting_area().dim_in_pixel();
+        if covered > 0 && plot_w - outside >= 0.6 * (w - 2.0 * m.margin) && lh <= f64::from(ph) {
+            (nx, xd) = x_ticks(&p.x, plot_w - outside, &m);
+            chart = build((bar_space + outside).max(overhang(nx, xd)))?;
+            labels = overlay::layout_labels(&chart, p, &m);
+            let (pw, _) = chart.plotting_area().dim_in_pixel();
+            legend_at = Some((f64::from(pw) + bar_space + m.px(12.0), 0.0));
+        }
+    }
     let fx = move |v: &f64| format_tick(*v, xd);
     let fy = move |v: &f64| format_tick(*v, yd);
     chart
@@ -170,9 +195,10 @@ pub(crate) fn draw(area: &Area, p: &Prepared) -> Result<(), PlotError> {
         AXIS.stroke_width(m.thin),
     );
     chart.plotting_area().draw(&frame).map_err(backend_err)?;
-    let labels = overlay::layout_labels(&chart, p, &m);
     overlay::draw_labels(&chart, &labels, &m)?;
-    overlay::draw_legend(&mut chart, p, &labels, &m)?;
+    if let Some(at) = legend_at {
+        overlay::draw_legend(area, &chart, p, at, &m)?;
+    }
     overlay::draw_bars(area, &chart, &bars, &m)?;
     draw_title(area, &chart, &p.title, title_px, &m)
 }
@@ -243,10 +269,9 @@ fn draw_series<'a, 'b: 'a>(
 ) -> Result<(), PlotError> {
     let (dash, gap) = m.dash;
     let dot = m.dot;
-    let (len, step) = (m.px(24.0) as i32, m.px(9.0) as i32);
     for it in &p.items {
         let style = it.colour.stroke_width(m.line);
-        let anno = match it.mark {
+        match it.mark {
             Mark::Line { dashed: false } => {
                 chart.draw_series(it.runs.iter().map(|r| PathElement::new(r.clone(), style)))
             }
@@ -277,39 +302,6 @@ fn draw_series<'a, 'b: 'a>(
             ),
         }
         .map_err(backend_err)?;
-        if it.name.is_empty() {
-            continue;
-        }
-        anno.label(it.name.as_str());
-        let fill = it.colour.filled();
-        match it.mark {
-            Mark::Line { dashed: false } => {
-                anno.legend(move |(x, y)| PathElement::new(vec![(x, y), (x + len, y)], style))
-            }
-            Mark::Line { dashed: true } => anno.legend(move |(x, y)| {
-                DashedPathElement::new(vec![(x, y), (x + len, y)], dash, gap, style)
-            }),
-            Mark::Points => anno.legend(move |(x, y)| Circle::new((x + len / 2, y), dot, fill)),
-            Mark::Above => {
-                anno.legend(move |(x, y)| TriangleMarker::new((x + len / 2, y), 2 * dot, fill))
-            }
-            Mark::Crosses => {
-                anno.legend(move |(x, y)| Cross::new((x + len / 2, y), 2 * dot, style))
-            }
-            Mark::Shade => {
-                let tint = it.colour.mix(0.16).filled();
-                anno.legend(move |(x, y)| {
-                    Rectangle::new([(x, y - dot as i32), (x + len, y + dot as i32)], tint)
-                })
-            }
-            Mark::Coloured => anno.legend(move |(x, y)| {
-                let c = |t: f64| {
-                    let dx = len / 2 + ((t - 0.5) * 2.0 * f64::from(step)) as i32;
-                    Circle::new((dx, 0), dot, viridis(t).filled())
-                };
-                EmptyElement::at((x, y)) + c(0.1) + c(0.5) + c(0.9)
-            }),
-        };
     }
     Ok(())
 }

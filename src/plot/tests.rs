@@ -317,3 +317,48 @@ fn log_x_axis_places_ticks_by_their_logarithm() {
     assert!((ratio - 2f64.log10()).abs() < 2e-3, "{ratio}");
     assert!(at("5e5") > b && at("2e6") > c);
 }
+
+/// The plot area's right edge (SVG units): the end of the horizontal grid lines.
+fn plot_right(svg: &str) -> f64 {
+    svg.lines()
+        .filter(|l| l.starts_with("<line") && l.contains("stroke=\"#E3E3E3\""))
+        .filter_map(|l| l.split("x2=\"").nth(1)?.split('"').next()?.parse().ok())
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+#[test]
+fn the_legend_goes_beside_the_plot_only_when_every_place_inside_covers_data() {
+    let figure = |series: Vec<Series>| Figure {
+        title: "legend".into(),
+        x_label: "x (m)".into(),
+        y_label: "y (m)".into(),
+        series,
+        x_range: Some((0.0, 1.0)),
+        y_range: Some((0.0, 1.0)),
+        ..Figure::default()
+    };
+    // a line in the lower left only: the legend stays inside, in the free upper right
+    let corner = figure(vec![line(
+        "corner",
+        vec![(0.0, 0.0), (0.2, 0.1), (0.3, 0.3)],
+        false,
+    )]);
+    let svg = render_svg(&corner, 1000, 640).expect("renders");
+    let (x, right) = (text_x(&svg, "corner").expect("legend"), plot_right(&svg));
+    assert!(x < right, "legend at {x}, plot ends at {right}");
+    // points everywhere: no place inside is free, so the legend is right of the plot
+    let grid: Vec<(f64, f64)> = (0..=40)
+        .flat_map(|i| (0..=40).map(move |j| (f64::from(i) / 40.0, f64::from(j) / 40.0)))
+        .collect();
+    let full = figure(vec![Series {
+        name: "everywhere".into(),
+        points: grid,
+        style: Style::Points,
+    }]);
+    let svg = render_svg(&full, 1000, 640).expect("renders");
+    let (x, right) = (
+        text_x(&svg, "everywhere").expect("legend"),
+        plot_right(&svg),
+    );
+    assert!(x > right, "legend at {x}, plot ends at {right}");
+}
