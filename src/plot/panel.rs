@@ -149,7 +149,7 @@ pub(crate) fn draw(area: &Area, p: &Prepared) -> Result<(), PlotError> {
     let mut labels = overlay::layout_labels(&chart, p, &m);
     // The legend goes inside the plot where it covers no data; where every place inside
     // covers some, right of the plot (and of the colour bars) if that leaves the plot at
-    // least 60 % of the width and the legend fits its height.
+    // least half the width and the legend fits its height.
     let legend = overlay::legend_size(p, &m).map(|size| {
         let inside = overlay::legend_inside(&chart, p, &labels, size, &m);
         (size, inside)
@@ -159,7 +159,7 @@ pub(crate) fn draw(area: &Area, p: &Prepared) -> Result<(), PlotError> {
     if let Some(((lw, lh), (_, covered))) = legend {
         let outside = overlay::legend_outside_width(lw, &m);
         let (_, ph) = chart.plotting_area().dim_in_pixel();
-        if covered > 0 && plot_w - outside >= 0.6 * (w - 2.0 * m.margin) && lh <= f64::from(ph) {
+        if covered > 0 && plot_w - outside >= 0.5 * (w - 2.0 * m.margin) && lh <= f64::from(ph) {
             (nx, xd) = x_ticks(&p.x, plot_w - outside, &m);
             chart = build((bar_space + outside).max(overhang(nx, xd)))?;
             labels = overlay::layout_labels(&chart, p, &m);
