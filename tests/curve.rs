@@ -1134,3 +1134,65 @@ fn a_cusp_the_fold_system_cannot_pass_is_bracketed_between_two_folds_that_meet()
         "the diagram at {beyond}, beyond the cusp {s:?} ({a_cusp} m), still has its folds: {far:?}"
     );
 }
+
+/// On a model with the flange dead band (docs/model.md §6: not differentiable at ±δ_f) the
+/// fold system's derivatives are not accurate for cycles that cross the clearance, and the
+/// fold curves stop there: the run says so in a note instead of reporting the fragments as
+/// curves that end, and the points it does give are the whole diagram's located folds.
+#[test]
+fn fold_curves_stopped_by_the_flange_are_named_in_a_note() {
+    let mut table: toml::Table = toml::from_str(
+        &std::fs::read_to_string(studies().join("flange-hysteresis.toml")).expect("study"),
+    )
+    .expect("toml");
+    let curve: toml::Table = toml::from_str(
+        "key = \"suspension.lateral_stiffness\"\nfrom = \"800 N/mm\"\nto = \"1200 N/mm\"\ncurves = [\"fold\"]\nspeed_range = [\"60 m/s\", \"100 m/s\"]\n",
+    )
+    .expect("curve");
+    table.insert("curve".into(), toml::Value::Table(curve));
+    let source = Source {
+        text: toml::to_string(&table).expect("toml"),
+        origin: "flange-hysteresis.toml with a [curve] over lateral stiffness".into(),
+        folder: Some(studies()),
+    };
+    let r =
+        api::curve::curve(&api::curve::curve_study(&source).expect("study"), None).expect("curves");
+    let note = r
+        .notes
+        .iter()
+        .find(|n| n.contains("flange clearance (3.000 mm)"))
+        .unwrap_or_else(|| panic!("no flange note in {:?}", r.notes));
+    assert!(note.contains("not differentiable"), "{note}");
+    // the study's own value (1000 N/mm): its diagram's two located folds, on two curves
+    let own = Prepared::new(
+        Source::file(&studies().join("flange-hysteresis.toml"))
+            .expect("file")
+            .plan()
+            .expect("plan"),
+    )
+    .expect("model");
+    let d = api::bifurcation(&own, Default::default()).expect("diagram");
+    let folds: Vec<(f64, f64)> = d
+        .special
+        .iter()
+        .filter(|s| s.kind == critspeed::continuation::SpecialKind::Fold && s.located)
+        .map(|s| (s.speed_m_s, s.amplitude_y_m))
+        .collect();
+    assert_eq!(folds.len(), 2, "{folds:?}");
+    for (v, a) in folds {
+        let p = r
+            .curves
+            .iter()
+            .filter(|c| c.kind == CurveKind::Fold)
+            .flat_map(|c| c.points.iter())
+            .filter(|p| p.parameter == 1e6)
+            .min_by(|x, y| (x.speed_m_s - v).abs().total_cmp(&(y.speed_m_s - v).abs()))
+            .expect("a fold curve point at 1000 N/mm");
+        assert!(
+            (p.speed_m_s - v).abs() <= 1e-6 * v && (p.amplitude_m - a).abs() <= 1e-4 * a,
+            "curve {} m/s, {} m; diagram {v} m/s, {a} m",
+            p.speed_m_s,
+            p.amplitude_m
+        );
+    }
+}
