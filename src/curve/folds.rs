@@ -218,7 +218,6 @@ pub(super) fn fold_curves(
             ));
         }
     }
-    flange_note(study, start, report);
     if !spec.curves.contains(&CurveKind::Fold) {
         return Ok(());
     }
@@ -742,41 +741,6 @@ fn nonlinear_critical_speed(spec: &CurveSpec, values: &[f64], report: &mut Curve
         report.notes.push(format!(
             "V_NL unknown at {}: the lowest Hopf point there is subcritical (or of unknown type) and no fold with a stable side was followed there, so V_NL lies below V_H on a fold this run did not reach",
             list.join(", ")
-        ));
-    }
-}
-
-/// A note when curves of cycles stop, unsolved, at cycles that reach the flange.
-///
-/// The flange force is not differentiable at the dead band's edges ±δ_f. The curves'
-/// derivatives are differences of tangents integrated with fixed Runge–Kutta steps
-/// (`tangent_on_steps`), which do not stop at those edges: for a cycle that crosses them a
-/// stage changes side as the arguments move, the differences jump, and Newton stalls. On
-/// `studies/flange-hysteresis.toml` over lateral stiffness 800–1200 N/mm, 11 of its 12 fold
-/// curves stop within 0.01 N/mm of the diagram they start from (`tests/curve.rs`).
-fn flange_note(study: &KeyedStudy, start: usize, report: &mut CurveReport) {
-    let Some(flange) = study.base.flange.as_ref() else {
-        return;
-    };
-    let curves = &report.curves[start..];
-    let stopped = curves
-        .iter()
-        .filter(|c| {
-            let ends = [
-                (&c.stops.0, c.points.first()),
-                (&c.stops.1, c.points.last()),
-            ];
-            ends.iter().any(|(stop, end)| {
-                matches!(stop, CurveStop::Unsolved { .. })
-                    && end.is_some_and(|p| p.amplitude_m > flange.clearance)
-            })
-        })
-        .count();
-    if stopped > 0 {
-        report.notes.push(format!(
-            "{stopped} of {} curves of cycles stop where no further point could be solved, at cycles whose amplitude exceeds the flange clearance ({:.3} mm): the flange force is not differentiable at the clearance, and the curves' derivatives (differences of tangents integrated on fixed steps that do not stop there) are not accurate for cycles that cross it, so the corrector stalls. Their points are solved; between and beyond them the curves are not known (the diagrams at the seed values give the folds there)",
-            curves.len(),
-            flange.clearance * 1e3
         ));
     }
 }

@@ -435,27 +435,171 @@ pub fn tangent_on_steps<const N: usize, F: VectorField<N>>(
     taus: &[f64],
 ) -> Result<(SVector<f64, N>, SVector<f64, N>), OdeError> {
     check_interval(horizon)?;
-    let field = |x: &SVector<f64, N>, xi: &SVector<f64, N>| {
-        let (fx, jxi) = f.rhs_tangent(x, p, xi);
+    let sides = Sides::new(f, x0);
+    let field = |x: &SVector<f64, N>, xi: &SVector<f64, N>, up: &[bool]| {
+        let x = sides.onto(f, x, up);
+        let (fx, jxi) = f.rhs_tangent(&x, p, xi);
         (fx * horizon, jxi * horizon + fx * d_horizon)
     };
+    let rk4 = |x: &SVector<f64, N>, xi: &SVector<f64, N>, h: f64, up: &[bool]| {
+        let (k1, l1) = field(x, xi, up);
+        let (k2, l2) = field(&(x + k1 * (0.5 * h)), &(xi + l1 * (0.5 * h)), up);
+        let (k3, l3) = field(&(x + k2 * (0.5 * h)), &(xi + l2 * (0.5 * h)), up);
+        let (k4, l4) = field(&(x + k3 * h), &(xi + l3 * h), up);
+        (
+            x + (k1 + (k2 + k3) * 2.0 + k4) * (h / 6.0),
+            xi + (l1 + (l2 + l3) * 2.0 + l4) * (h / 6.0),
+        )
+    };
     let (mut x, mut xi) = (*x0, *xi0);
+    let mut up = sides.up.clone();
     let mut tau = 0.0;
     for &next in taus {
-        let h = next - tau;
+        let mut h = next - tau;
         if h.is_nan() || h <= 0.0 {
             continue;
         }
-        let (k1, l1) = field(&x, &xi);
-        let (k2, l2) = field(&(x + k1 * (0.5 * h)), &(xi + l1 * (0.5 * h)));
-        let (k3, l3) = field(&(x + k2 * (0.5 * h)), &(xi + l2 * (0.5 * h)));
-        let (k4, l4) = field(&(x + k3 * h), &(xi + l3 * h));
-        x += (k1 + (k2 + k3) * 2.0 + k4) * (h / 6.0);
-        xi += (l1 + (l2 + l3) * 2.0 + l4) * (h / 6.0);
+        // A step that crosses a switching surface is split where this trajectory crosses
+        // it, and each part is taken on one side's field (the stages held on that side):
+        // the map then moves smoothly with its arguments, as its differences need.
+        // (at most two crossings of each surface in one step; the rest of a step with more
+        // is taken on the last sides)
+        let mut crossings = 0;
+        loop {
+            let (xe, xie) = rk4(&x, &xi, h, &up);
+            let crossing = (crossings < 2 * up.len())
+                .then(|| sides.first_crossing(f, &x, &xe, &up, |t| rk4(&x, &xi, t * h, &up).0))
+                .flatten();
+            let Some((k, theta)) = crossing else {
+                (x, xi) = (xe, xie);
+                break;
+            };
+            (x, xi) = rk4(&x, &xi, theta * h, &up);
+            up[k] = !up[k];
+            h *= 1.0 - theta;
+            crossings += 1;
+        }
         tau = next;
         if !(x.sum() + xi.sum()).is_finite() {
             return Err(OdeError::NonFinite { t: tau * horizon });
         }
     }
     Ok((x, xi))
+}
+
+/// The switching surfaces of a field as [`tangent_on_steps`] meets them: each surface's side
+/// (`up`: its function positive) and the means to hold a stage on a side and to find where a
+/// step crosses a surface.
+struct Sides {
+    /// the side of each surface at the start
+    up: Vec<bool>,
+}
+
+impl Sides {
+    /// How far (the switching function's units, state units for the flange) a stage that has
+    /// strayed across a surface is put back on its side.
+    const INSIDE: f64 = 1e-13;
+
+    fn new<const N: usize, F: VectorField<N>>(f: &F, x0: &SVector<f64, N>) -> Self {
+        Sides {
+            up: (0..f.switch_count())
+                .map(|k| f.switch_value(k, x0) > 0.0)
+                .collect(),
+        }
+    }
+
+    /// `x`, or, where it lies across a surface from the side `up` holds, `x` moved along the
+    /// switching function's gradient (a difference: the functions are linear in the state, or
+    /// nearly so over the stray) to just inside that side. The field is continuous across
+    /// its surfaces, so the move changes f by the stray's order; what it keeps is the side's
+    /// Jacobian, which jumps at the surface.
+    fn onto<const N: usize, F: VectorField<N>>(
+        &self,
+        f: &F,
+        x: &SVector<f64, N>,
+        up: &[bool],
+    ) -> SVector<f64, N> {
+        let mut y = *x;
+        for (k, &side) in up.iter().enumerate() {
+            let g = f.switch_value(k, &y);
+            let target = if side { Self::INSIDE } else { -Self::INSIDE };
+            // strictly inside (a point on the surface belongs to whichever side the field's
+            // own comparison gives it, which may not be this one)
+            if (side && g > 0.0) || (!side && g < 0.0) {
+                continue;
+            }
+            let grad = SVector::<f64, N>::from_fn(|i, _| {
+                let d = 1e-6 * (1.0 + y[i].abs());
+                let mut z = y;
+                z[i] += d;
+                (f.switch_value(k, &z) - g) / d
+            });
+            let norm = grad.norm_squared();
+            if norm > 0.0 && norm.is_finite() {
+                y += grad * ((target - g) / norm);
+            }
+        }
+        y
+    }
+
+    /// The first surface the step from `x` to `xe` (taken on the sides `up`) crosses, and the
+    /// step's fraction where it does: the root of the switching function along `along(t)`, the
+    /// state after the fraction `t` of the step (Illinois, to round-off).
+    fn first_crossing<const N: usize, F: VectorField<N>>(
+        &self,
+        f: &F,
+        x: &SVector<f64, N>,
+        xe: &SVector<f64, N>,
+        up: &[bool],
+        along: impl Fn(f64) -> SVector<f64, N>,
+    ) -> Option<(usize, f64)> {
+        let mut first: Option<(usize, f64)> = None;
+        for (k, &side) in up.iter().enumerate() {
+            let (g0, g1) = (f.switch_value(k, x), f.switch_value(k, xe));
+            if (g1 > 0.0) == side || !g1.is_finite() {
+                continue;
+            }
+            // the start lies on the surface or on `side` (held there when it strayed); the
+            // end across it: Illinois on [0, 1], `a` before the crossing, `b` after
+            let before = |g: f64| (g > 0.0) == side;
+            let g0 = if before(g0) { g0 } else { 0.0 };
+            let (mut a, mut b, mut ga, mut gb) = (0.0, 1.0, g0, g1);
+            let mut kept = 0;
+            let mut t = 1.0;
+            for _ in 0..100 {
+                t = if ga == gb {
+                    0.5 * (a + b)
+                } else {
+                    (a * gb - b * ga) / (gb - ga)
+                };
+                if !(t > a && t < b) {
+                    t = 0.5 * (a + b);
+                }
+                if b - a <= 4.0 * f64::EPSILON {
+                    break;
+                }
+                let g = f.switch_value(k, &along(t));
+                if g == 0.0 {
+                    break;
+                }
+                if before(g) {
+                    (a, ga) = (t, g);
+                    if kept == -1 {
+                        gb *= 0.5;
+                    }
+                    kept = -1;
+                } else {
+                    (b, gb) = (t, g);
+                    if kept == 1 {
+                        ga *= 0.5;
+                    }
+                    kept = 1;
+                }
+            }
+            if first.is_none_or(|(_, tf)| t < tf) {
+                first = Some((k, t));
+            }
+        }
+        first
+    }
 }
