@@ -8,6 +8,9 @@
 //! * `curve_cubic_fold_friction_folds`: the fold curves and V_NL of `studies/cubic-fold.toml`
 //!   over friction 0.05 to 0.6 (the diagrams at the study's own and at five grid values, the
 //!   fold continued as the fold system over the range, solved at 12 friction values).
+//! * `curve_flange_hysteresis_folds`: the two fold curves of `studies/flange-hysteresis.toml`
+//!   over its lateral stiffness (800 to 1200 N/mm), whose cycles cross the flange clearance
+//!   (the fixed-step tangents split at each crossing).
 //! * `curve_dtu_bogie_yaw_damping_folds` and `curve_dtu_car_yaw_damping_folds`: the whole
 //!   `critspeed curve` of `studies/dtu-cooperrider-bogie.toml` (0 to 400 kN s/m) and of
 //!   `studies/dtu-car-yaw-damper-trade.toml` (20 to 640 kN s/m, log): Hopf curves, the six
@@ -59,6 +62,10 @@ fn benches(c: &mut Criterion) {
     let cubic = with_curves("cubic-fold.toml", &[CurveKind::Fold]);
     group.bench_function("curve_cubic_fold_friction_folds", |b| {
         b.iter(|| api::curve::curve(black_box(&cubic), None).expect("curves"))
+    });
+    let flange = with_curves("flange-hysteresis.toml", &[CurveKind::Fold]);
+    group.bench_function("curve_flange_hysteresis_folds", |b| {
+        b.iter(|| api::curve::curve(black_box(&flange), None).expect("curves"))
     });
     let torus = with_curves("dtu-cooperrider-bogie.toml", &[CurveKind::Torus]);
     group.bench_function("curve_dtu_bogie_yaw_damping_torus", |b| {
