@@ -66,6 +66,14 @@ fn rewritten(name: &str, key: &str, value: f64) -> Source {
     rewritten_with(name, key, value, None)
 }
 
+/// The whole diagram (`critspeed bifurcation`, branch switching included) of the study `name`
+/// rewritten with `key` = `value`.
+fn diagram_at(name: &str, key: &str, value: f64) -> bifurcation::BifurcationReport {
+    let source = rewritten(name, key, value);
+    let prepared = Prepared::new(source.plan().expect("plan")).expect("model");
+    api::bifurcation(&prepared, Default::default()).expect("diagram")
+}
+
 /// The study file `name` with `[curve]` settings added or replaced.
 fn with_curve(name: &str, settings: &[(&str, toml::Value)]) -> Source {
     let text = std::fs::read_to_string(studies().join(name)).expect("study");
@@ -166,9 +174,7 @@ fn folds_equal_diagrams(name: &str, key: &str, want: usize, max_amplitude: f64) 
     let mut checked = 0;
     for i in 0..want {
         let (p, v, a) = points[i * (points.len() - 1) / (want - 1).max(1)];
-        let source = rewritten(name, key, p);
-        let prepared = Prepared::new(source.plan().expect("plan")).expect("model");
-        let d = api::bifurcation(&prepared, Default::default()).expect("diagram");
+        let d = diagram_at(name, key, p);
         let nearest = d
             .special
             .iter()
@@ -278,9 +284,7 @@ fn dtu_bogie_symmetry_breaking_curve_equals_whole_diagrams() {
     assert!(points.len() >= want, "{} points", points.len());
     for i in 0..want {
         let q = points[i * (points.len() - 1) / (want - 1)];
-        let source = rewritten(name, key, q.parameter);
-        let prepared = Prepared::new(source.plan().expect("plan")).expect("model");
-        let d = api::bifurcation(&prepared, Default::default()).expect("diagram");
+        let d = diagram_at(name, key, q.parameter);
         let nearest = nearest_located(&d, SymmetryBreaking, q.speed_m_s).unwrap_or_else(|| {
             panic!(
                 "no located symmetry-breaking point in the diagram at {key} = {}",
@@ -376,9 +380,7 @@ fn dtu_bogie_torus_curve_equals_whole_diagrams_and_ends_at_the_double_hopf_point
     let mut worst: (f64, f64) = (0.0, 0.0);
     for i in 0..samples {
         let q = points[i * (points.len() - 1) / (samples - 1)];
-        let source = rewritten(name, key, q.parameter);
-        let prepared = Prepared::new(source.plan().expect("plan")).expect("model");
-        let d = api::bifurcation(&prepared, Default::default()).expect("diagram");
+        let d = diagram_at(name, key, q.parameter);
         let on_diagram = d.cycles.windows(2).any(|w| {
             let (a, b) = (&w[0], &w[1]);
             let inside = (a.speed_m_s - q.speed_m_s) * (b.speed_m_s - q.speed_m_s) <= 0.0;
@@ -1093,9 +1095,7 @@ fn a_cusp_the_fold_system_cannot_pass_is_bracketed_between_two_folds_that_meet()
         "the same fold twice at {p}: {va} m/s"
     );
     let folds_at = |value: f64| -> Vec<(f64, f64)> {
-        let source = rewritten(name, &r.key, value);
-        let prepared = Prepared::new(source.plan().expect("plan")).expect("model");
-        let d = api::bifurcation(&prepared, Default::default()).expect("diagram");
+        let d = diagram_at(name, &r.key, value);
         d.special
             .iter()
             .filter(|x| x.kind == critspeed::continuation::SpecialKind::Fold && x.located)
@@ -1191,9 +1191,7 @@ fn curve_equals_diagrams(
     let mut worst = (0.0f64, 0.0f64);
     for i in 0..want {
         let q = &points[i * (points.len() - 1) / (want - 1)];
-        let source = rewritten(name, key, q.parameter);
-        let prepared = Prepared::new(source.plan().expect("plan")).expect("model");
-        let d = api::bifurcation(&prepared, Default::default()).expect("diagram");
+        let d = diagram_at(name, key, q.parameter);
         let nearest = nearest_located(&d, kind, q.speed_m_s).unwrap_or_else(|| {
             panic!(
                 "no located {kind:?} in the diagram at {key} = {}",

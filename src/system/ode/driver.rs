@@ -544,7 +544,8 @@ impl Sides {
 
     /// The first surface the step from `x` to `xe` (taken on the sides `up`) crosses, and the
     /// step's fraction where it does: the root of the switching function along `along(t)`, the
-    /// state after the fraction `t` of the step (Illinois, to round-off).
+    /// state after the fraction `t` of the step (Brent's method, as the integrator's events,
+    /// to round-off).
     fn first_crossing<const N: usize, F: VectorField<N>>(
         &self,
         f: &F,
@@ -559,43 +560,13 @@ impl Sides {
             if (g1 > 0.0) == side || !g1.is_finite() {
                 continue;
             }
-            // the start lies on the surface or on `side` (held there when it strayed); the
-            // end across it: Illinois on [0, 1], `a` before the crossing, `b` after
-            let before = |g: f64| (g > 0.0) == side;
-            let g0 = if before(g0) { g0 } else { 0.0 };
-            let (mut a, mut b, mut ga, mut gb) = (0.0, 1.0, g0, g1);
-            let mut kept = 0;
-            let mut t = 1.0;
-            for _ in 0..100 {
-                t = if ga == gb {
-                    0.5 * (a + b)
-                } else {
-                    (a * gb - b * ga) / (gb - ga)
-                };
-                if !(t > a && t < b) {
-                    t = 0.5 * (a + b);
-                }
-                if b - a <= 4.0 * f64::EPSILON {
-                    break;
-                }
-                let g = f.switch_value(k, &along(t));
-                if g == 0.0 {
-                    break;
-                }
-                if before(g) {
-                    (a, ga) = (t, g);
-                    if kept == -1 {
-                        gb *= 0.5;
-                    }
-                    kept = -1;
-                } else {
-                    (b, gb) = (t, g);
-                    if kept == 1 {
-                        ga *= 0.5;
-                    }
-                    kept = 1;
-                }
-            }
+            // the start lies on `side` (else the crossing is at the start); the end across
+            let t = if (g0 > 0.0) == side && g0 != 0.0 {
+                let mut g = |t: f64| f.switch_value(k, &along(t));
+                super::events::brent(&mut g, 0.0, 1.0, g0, g1, 4.0 * f64::EPSILON)
+            } else {
+                0.0
+            };
             if first.is_none_or(|(_, tf)| t < tf) {
                 first = Some((k, t));
             }
