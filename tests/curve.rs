@@ -224,20 +224,31 @@ fn same_point(
     (dv, da)
 }
 
-/// The located special point of `kind` of diagram `d` nearest in speed to `speed` (m/s).
-fn nearest_located(
+/// Asserts that diagram `d` (at the curve point's key value) has a located special point of
+/// `kind`, and that the one nearest in speed to the curve point `q` is the same point
+/// ([`same_point`]); returns the differences.
+fn same_as_diagram(
+    key: &str,
     d: &bifurcation::BifurcationReport,
     kind: critspeed::continuation::SpecialKind,
-    speed: f64,
-) -> Option<&bifurcation::SpecialRow> {
-    d.special
+    q: &critspeed::curve::CurvePoint,
+) -> (f64, f64) {
+    let nearest = d
+        .special
         .iter()
         .filter(|s| s.kind == kind && s.located)
         .min_by(|x, y| {
-            (x.speed_m_s - speed)
+            (x.speed_m_s - q.speed_m_s)
                 .abs()
-                .total_cmp(&(y.speed_m_s - speed).abs())
+                .total_cmp(&(y.speed_m_s - q.speed_m_s).abs())
         })
+        .unwrap_or_else(|| {
+            panic!(
+                "no located {kind:?} in the diagram at {key} = {}",
+                q.parameter
+            )
+        });
+    same_point(key, q, nearest)
 }
 
 /// The symmetry-breaking curve of the DTU bogie over its yaw-damper rate against whole
@@ -285,13 +296,7 @@ fn dtu_bogie_symmetry_breaking_curve_equals_whole_diagrams() {
     for i in 0..want {
         let q = points[i * (points.len() - 1) / (want - 1)];
         let d = diagram_at(name, key, q.parameter);
-        let nearest = nearest_located(&d, SymmetryBreaking, q.speed_m_s).unwrap_or_else(|| {
-            panic!(
-                "no located symmetry-breaking point in the diagram at {key} = {}",
-                q.parameter
-            )
-        });
-        same_point(key, q, nearest);
+        same_as_diagram(key, &d, SymmetryBreaking, q);
     }
 }
 
@@ -396,13 +401,7 @@ fn dtu_bogie_torus_curve_equals_whole_diagrams_and_ends_at_the_double_hopf_point
             continue;
         }
         checked += 1;
-        let nearest = nearest_located(&d, Torus, q.speed_m_s).unwrap_or_else(|| {
-            panic!(
-                "no located torus point in the diagram at {key} = {}",
-                q.parameter
-            )
-        });
-        let (dv, da) = same_point(key, q, nearest);
+        let (dv, da) = same_as_diagram(key, &d, Torus, q);
         worst = (worst.0.max(dv), worst.1.max(da));
     }
     eprintln!(
@@ -1192,13 +1191,7 @@ fn curve_equals_diagrams(
     for i in 0..want {
         let q = &points[i * (points.len() - 1) / (want - 1)];
         let d = diagram_at(name, key, q.parameter);
-        let nearest = nearest_located(&d, kind, q.speed_m_s).unwrap_or_else(|| {
-            panic!(
-                "no located {kind:?} in the diagram at {key} = {}",
-                q.parameter
-            )
-        });
-        let (dv, da) = same_point(key, q, nearest);
+        let (dv, da) = same_as_diagram(key, &d, kind, q);
         worst = (worst.0.max(dv), worst.1.max(da));
     }
     eprintln!(
