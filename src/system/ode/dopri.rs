@@ -73,21 +73,162 @@ const D: [f64; 7] = [
     69997945.0 / 29380423.0,
 ];
 
+/// What the variational equations carry along with the state: nothing (`()`), the monodromy
+/// matrix $\Phi$ (an `N × N` matrix, $\dot\Phi = J\Phi$), or one tangent vector
+/// ([`Column`], $\dot w = Jw$).
+///
+/// **Why a type and not a flag.** The carried value lives in every point and every stage of a
+/// step. When it was always the full matrix, a plain simulation of the 34-state car moved and
+/// zeroed 7 stage matrices of 9 KB each per step although it never used them: a profile of
+/// 30 s of the S1002 car spent 34 % of its time in `memmove`, 7 % in `memset` and 15 % in the
+/// finiteness test of the unused matrices, against 20 % in the model's f. With the carried
+/// value a type, a simulation carries nothing (zero bytes) and a Lyapunov exponent one
+/// column; the arithmetic on $x$ is unchanged, so the trajectories are the same to the bit.
+pub(super) trait Carried<const N: usize>: Copy {
+    /// Carried whatever [`OdeOptions::monodromy`](super::OdeOptions::monodromy) says (a
+    /// tangent vector); the monodromy matrix rides along only when the options ask for it.
+    const ALWAYS: bool;
+    /// The value with every entry zero (the stage of a step taken without it).
+    fn zero() -> Self;
+    /// The value at $t = 0$ when the caller gives none: $\Phi(0) = I$ (the first unit
+    /// vector for a column).
+    fn identity() -> Self;
+    /// $s = y + h\sum_j a_j k_j$, as [`combine`] does for the state.
+    fn combine(y: &Self, h: f64, a: &[f64], k: &[Self]) -> Self;
+    /// The scaled error of the value (see [`phi_rms`]); 0 for nothing.
+    fn error(e: &Self, y0: &Self, y1: &Self, tol: &Tolerances) -> f64;
+    /// The sum of the entries (finite exactly when every entry is, short of overflow).
+    fn sum(&self) -> f64;
+    /// $f(x; p)$ and the carried value's derivative $J(x)\,c$.
+    fn field<F: VectorField<N>>(
+        f: &F,
+        x: &SVector<f64, N>,
+        p: f64,
+        c: &Self,
+    ) -> (SVector<f64, N>, Self);
+    /// The monodromy matrix, when this is it.
+    fn monodromy(&self) -> Option<SMatrix<f64, N, N>>;
+}
+
+impl<const N: usize> Carried<N> for () {
+    const ALWAYS: bool = false;
+    fn zero() -> Self {}
+    fn identity() -> Self {}
+    fn combine(_: &Self, _: f64, _: &[f64], _: &[Self]) -> Self {}
+    fn error(_: &Self, _: &Self, _: &Self, _: &Tolerances) -> f64 {
+        0.0
+    }
+    fn sum(&self) -> f64 {
+        0.0
+    }
+    #[inline(always)]
+    fn field<F: VectorField<N>>(
+        f: &F,
+        x: &SVector<f64, N>,
+        p: f64,
+        _: &Self,
+    ) -> (SVector<f64, N>, Self) {
+        (f.rhs(x, p), ())
+    }
+    fn monodromy(&self) -> Option<SMatrix<f64, N, N>> {
+        None
+    }
+}
+
+impl<const N: usize> Carried<N> for SMatrix<f64, N, N> {
+    const ALWAYS: bool = false;
+    fn zero() -> Self {
+        SMatrix::zeros()
+    }
+    fn identity() -> Self {
+        SMatrix::identity()
+    }
+    #[inline(always)]
+    fn combine(y: &Self, h: f64, a: &[f64], k: &[Self]) -> Self {
+        combine(y, h, a, k)
+    }
+    fn error(e: &Self, y0: &Self, y1: &Self, tol: &Tolerances) -> f64 {
+        phi_rms(e, y0, y1, tol)
+    }
+    fn sum(&self) -> f64 {
+        SMatrix::sum(self)
+    }
+    #[inline(always)]
+    fn field<F: VectorField<N>>(
+        f: &F,
+        x: &SVector<f64, N>,
+        p: f64,
+        c: &Self,
+    ) -> (SVector<f64, N>, Self) {
+        f.rhs_variational(x, p, c)
+    }
+    fn monodromy(&self) -> Option<SMatrix<f64, N, N>> {
+        Some(*self)
+    }
+}
+
+/// One tangent vector $w$ with $\dot w = J(x)\,w$: $\Phi(t)\,w_0$ without $\Phi$ (the
+/// largest Lyapunov exponent needs no more). Its error is measured as one column of $\Phi$.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Column<const N: usize>(pub SVector<f64, N>);
+
+impl<const N: usize> Carried<N> for Column<N> {
+    const ALWAYS: bool = true;
+    fn zero() -> Self {
+        Column(SVector::zeros())
+    }
+    fn identity() -> Self {
+        let mut e = SVector::zeros();
+        if N > 0 {
+            e[0] = 1.0;
+        }
+        Column(e)
+    }
+    #[inline(always)]
+    fn combine(y: &Self, h: f64, a: &[f64], k: &[Self]) -> Self {
+        let mut s = y.0;
+        for (aj, kj) in a.iter().zip(k) {
+            s.axpy(h * aj, &kj.0, 1.0);
+        }
+        Column(s)
+    }
+    fn error(e: &Self, y0: &Self, y1: &Self, tol: &Tolerances) -> f64 {
+        phi_rms(&e.0, &y0.0, &y1.0, tol)
+    }
+    fn sum(&self) -> f64 {
+        self.0.sum()
+    }
+    #[inline(always)]
+    fn field<F: VectorField<N>>(
+        f: &F,
+        x: &SVector<f64, N>,
+        p: f64,
+        c: &Self,
+    ) -> (SVector<f64, N>, Self) {
+        let (fx, jw) = f.rhs_tangent(x, p, &c.0);
+        (fx, Column(jw))
+    }
+    fn monodromy(&self) -> Option<SMatrix<f64, N, N>> {
+        None
+    }
+}
+
 /// A point of the trajectory with the (augmented) field there, kept so that the next step can
-/// reuse it as its first stage (FSAL): $f = f(x)$, $f_\Phi = J(x)\,\Phi$.
+/// reuse it as its first stage (FSAL): $f = f(x)$, $f_\Phi = J(x)\,\Phi$ ($\Phi$ being
+/// whatever `C` carries).
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Point<const N: usize> {
+pub(super) struct Point<const N: usize, C> {
     pub t: f64,
     pub x: SVector<f64, N>,
-    pub phi: SMatrix<f64, N, N>,
+    pub phi: C,
     pub f: SVector<f64, N>,
-    pub f_phi: SMatrix<f64, N, N>,
+    pub f_phi: C,
 }
 
 /// A trial step: the candidate end point, its scaled error, and the stages of $x$ (needed only
 /// if a continuous extension is asked for).
-pub(super) struct Trial<const N: usize> {
-    pub end: Point<N>,
+pub(super) struct Trial<const N: usize, C> {
+    pub end: Point<N, C>,
     pub err: f64,
     k: [SVector<f64, N>; 7],
 }
@@ -215,14 +356,14 @@ fn scaled_rms<const R: usize, const CC: usize>(
 ///   not proven: the Newton rate itself was not logged.) Newton at 100 rtol for vehicles
 ///   (`bifurcation::newton_tol`) passes all three folds of the bogie and the car with this
 ///   control; the folds and V_NL move by about 1e-8 m/s.
-fn phi_rms<const N: usize>(
-    e: &SMatrix<f64, N, N>,
-    y0: &SMatrix<f64, N, N>,
-    y1: &SMatrix<f64, N, N>,
+fn phi_rms<const N: usize, const M: usize>(
+    e: &SMatrix<f64, N, M>,
+    y0: &SMatrix<f64, N, M>,
+    y1: &SMatrix<f64, N, M>,
     tol: &Tolerances,
 ) -> f64 {
     let mut sum = 0.0;
-    for j in 0..N {
+    for j in 0..M {
         let mut size = 1.0f64;
         for i in 0..N {
             size = size.max(y0[(i, j)].abs()).max(y1[(i, j)].abs());
@@ -233,27 +374,23 @@ fn phi_rms<const N: usize>(
             sum += r * r;
         }
     }
-    (sum / (N * N) as f64).sqrt()
+    (sum / (N * M) as f64).sqrt()
 }
 
 impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
     /// The augmented field at $(x, \Phi)$; $J$ is only evaluated when $\Phi$ rides along.
     #[inline(always)]
-    fn eval(
-        &mut self,
-        x: &SVector<f64, N>,
-        phi: &SMatrix<f64, N, N>,
-    ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
+    fn eval<C: Carried<N>>(&mut self, x: &SVector<f64, N>, phi: &C) -> (SVector<f64, N>, C) {
         self.rhs_evals += 1;
         if self.variational {
-            self.field.rhs_variational(x, self.p, phi)
+            C::field(self.field, x, self.p, phi)
         } else {
-            (self.field.rhs(x, self.p), SMatrix::zeros())
+            (self.field.rhs(x, self.p), C::zero())
         }
     }
 
     /// A point with its field evaluated (the start of the integration).
-    pub fn point(&mut self, t: f64, x: SVector<f64, N>, phi: SMatrix<f64, N, N>) -> Point<N> {
+    pub fn point<C: Carried<N>>(&mut self, t: f64, x: SVector<f64, N>, phi: C) -> Point<N, C> {
         let (f, f_phi) = self.eval(&x, &phi);
         Point {
             t,
@@ -270,9 +407,9 @@ impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
     /// switching the monodromy on never loosens the control of the state (the $N^2$ entries of
     /// $\Phi$ would otherwise dilute it), and $\Phi$ is normwise as accurate as $x$ — which
     /// is what Floquet multipliers accurate to ~1e-9 need.
-    pub fn step(&mut self, p0: &Point<N>, h: f64) -> Trial<N> {
+    pub fn step<C: Carried<N>>(&mut self, p0: &Point<N, C>, h: f64) -> Trial<N, C> {
         let mut k = [SVector::<f64, N>::zeros(); 7];
-        let mut kp = [SMatrix::<f64, N, N>::zeros(); 7];
+        let mut kp = [C::zero(); 7];
         k[0] = p0.f;
         kp[0] = p0.f_phi;
         let (mut x1, mut phi1) = (p0.x, p0.phi);
@@ -280,7 +417,7 @@ impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
             let a = &A[s - 1][..s];
             let xs = combine(&p0.x, h, a, &k[..s]);
             let phis = if self.variational {
-                combine(&p0.phi, h, a, &kp[..s])
+                C::combine(&p0.phi, h, a, &kp[..s])
             } else {
                 p0.phi
             };
@@ -290,8 +427,8 @@ impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
         let ex = combine(&SVector::zeros(), h, &E, &k);
         let mut err = scaled_rms(&ex, &p0.x, &x1, &self.tol);
         if self.variational {
-            let ep = combine(&SMatrix::zeros(), h, &E, &kp);
-            let e_phi = phi_rms(&ep, &p0.phi, &phi1, &self.tol);
+            let ep = C::combine(&C::zero(), h, &E, &kp);
+            let e_phi = C::error(&ep, &p0.phi, &phi1, &self.tol);
             err = err.max(e_phi);
         }
         let end = Point {
@@ -307,7 +444,7 @@ impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
     /// Starting step size, HNW I §II.4 ("Starting step size", the `HINIT` of DOPRI5), on the
     /// state only: $h_0 = 0.01\|x_0\|/\|f_0\|$, one Euler step for a second-derivative
     /// estimate, $h_1 = (0.01/\max(\|f'\|, \|f_0\|))^{1/5}$, $h = \min(100h_0, h_1, h_{\max})$.
-    pub fn initial_step(&mut self, p0: &Point<N>, h_max: f64) -> f64 {
+    pub fn initial_step<C>(&mut self, p0: &Point<N, C>, h_max: f64) -> f64 {
         let sk = p0.x.map(|v| self.tol.atol + self.tol.rtol * v.abs());
         let rms = |v: &SVector<f64, N>| (v.component_div(&sk).norm_squared() / N as f64).sqrt();
         let (dy, df) = (rms(&p0.x), rms(&p0.f));
@@ -349,7 +486,7 @@ pub(super) struct Dense<const N: usize> {
 }
 
 impl<const N: usize> Dense<N> {
-    pub fn new(p0: &Point<N>, trial: &Trial<N>) -> Self {
+    pub fn new<C>(p0: &Point<N, C>, trial: &Trial<N, C>) -> Self {
         let h = trial.end.t - p0.t;
         let r1 = trial.end.x - p0.x;
         let r2 = trial.k[0] * h - r1;

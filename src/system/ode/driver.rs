@@ -5,22 +5,36 @@ use std::ops::ControlFlow;
 
 use nalgebra::{SMatrix, SVector};
 
-use super::dopri::{Controller, Dense, Point, Rk, Trial, FAC_MIN};
+use super::dopri::{Carried, Column, Controller, Dense, Point, Rk, Trial, FAC_MIN};
 use super::events::{brent, land_on, Switches};
 use super::{OdeError, OdeOptions, Solution, Stats, StopReason, VectorField};
 
 /// The loop's result: the solution, the last step size (for [`OdeError::StepSizeTooSmall`]),
 /// and whether the per-step hook ended the run.
-pub(super) struct Run<const N: usize> {
+pub(super) struct Run<const N: usize, C> {
     pub sol: Solution<N>,
     pub h: f64,
     pub hooked: bool,
+    /// what the variational equations carried, at the final time
+    pub carried: C,
+}
+
+/// Runs the generic function `$go` with the carried value the options ask for: the monodromy
+/// matrix with `opts.monodromy`, else nothing (see [`Carried`]).
+macro_rules! by_carried {
+    ($opts:expr, $go:ident ( $($arg:expr),* $(,)? )) => {
+        if $opts.monodromy {
+            $go::<N, F, SMatrix<f64, N, N>>($($arg),*)
+        } else {
+            $go::<N, F, ()>($($arg),*)
+        }
+    };
 }
 
 /// All of the point finite: a NaN or infinity anywhere makes the sum non-finite (a sum of
 /// finite entries could only overflow beyond 1e308, which is a blow-up too). Cheaper than
 /// testing each entry.
-fn finite<const N: usize>(p: &Point<N>) -> bool {
+fn finite<const N: usize, C: Carried<N>>(p: &Point<N, C>) -> bool {
     (p.x.sum() + p.f.sum() + p.phi.sum() + p.f_phi.sum()).is_finite()
 }
 
@@ -35,17 +49,21 @@ fn check_interval(t_end: f64) -> Result<(), OdeError> {
 /// Integrates from $t = 0$ to `t_end`, calling `hook(rk, start, trial)` after every accepted
 /// step; a `Break(point)` ends the run at that point. Numerical failures end the run with a
 /// [`StopReason`]; only invalid arguments are errors here.
-pub(super) fn run<const N: usize, F, H>(
+/// `phi0` is the carried value at $t = 0$ (the identity for the monodromy matrix); it rides
+/// along when `opts.monodromy` is set or it is a [`Column`].
+pub(super) fn run<const N: usize, F, C, H>(
     field: &F,
     p: f64,
     x0: &SVector<f64, N>,
+    phi0: C,
     t_end: f64,
     opts: &OdeOptions,
     mut hook: H,
-) -> Result<Run<N>, OdeError>
+) -> Result<Run<N, C>, OdeError>
 where
     F: VectorField<N>,
-    H: FnMut(&mut Rk<'_, N, F>, &Point<N>, &Trial<N>) -> ControlFlow<Point<N>>,
+    C: Carried<N>,
+    H: FnMut(&mut Rk<'_, N, F>, &Point<N, C>, &Trial<N, C>) -> ControlFlow<Point<N, C>>,
 {
     opts.validate()?;
     check_interval(t_end)?;
@@ -55,11 +73,11 @@ where
     let mut rk = Rk {
         field,
         p,
-        variational: opts.monodromy,
+        variational: opts.monodromy || C::ALWAYS,
         tol: opts.tol,
         rhs_evals: 0,
     };
-    let mut cur = rk.point(0.0, *x0, SMatrix::identity());
+    let mut cur = rk.point(0.0, *x0, phi0);
     let mut switches = Switches::new(field, x0);
     let mut ctrl = Controller::new();
     let mut stats = Stats::default();
@@ -133,7 +151,11 @@ where
         }
     };
     stats.rhs_evals = rk.rhs_evals;
-    let monodromy = opts.monodromy.then_some(cur.phi);
+    let monodromy = if opts.monodromy {
+        cur.phi.monodromy()
+    } else {
+        None
+    };
     let sol = Solution {
         t: cur.t,
         x: cur.x,
@@ -142,11 +164,16 @@ where
         stop,
         h_first,
     };
-    Ok(Run { sol, h, hooked })
+    Ok(Run {
+        sol,
+        h,
+        hooked,
+        carried: cur.phi,
+    })
 }
 
 /// A run that did not reach its end becomes the matching error.
-fn checked<const N: usize>(run: Run<N>) -> Result<Solution<N>, OdeError> {
+fn checked<const N: usize, C>(run: Run<N, C>) -> Result<Solution<N>, OdeError> {
     let Run { sol, h, .. } = run;
     let t = sol.t;
     match sol.stop {
@@ -170,9 +197,43 @@ pub fn integrate<const N: usize, F: VectorField<N>>(
     t_end: f64,
     opts: &OdeOptions,
 ) -> Result<Solution<N>, OdeError> {
-    checked(run(f, p, x0, t_end, opts, |_, _, _| {
+    fn go<const N: usize, F: VectorField<N>, C: Carried<N>>(
+        f: &F,
+        p: f64,
+        x0: &SVector<f64, N>,
+        t_end: f64,
+        opts: &OdeOptions,
+    ) -> Result<Solution<N>, OdeError> {
+        let phi0 = C::identity();
+        checked(run(f, p, x0, phi0, t_end, opts, |_, _, _| {
+            ControlFlow::Continue(())
+        })?)
+    }
+    by_carried!(opts, go(f, p, x0, t_end, opts))
+}
+
+/// As [`integrate`], carrying one tangent vector instead of the monodromy matrix: returns the
+/// solution and $w(t_{end}) = \Phi(t_{end})\,w_0$, from $\dot w = J(x(t))\,w$ with the
+/// same stages as $x$ and $w$ in the error test (as one column of $\Phi$). It costs one
+/// directional derivative per stage instead of a Jacobian and an $N \times N$ product:
+/// what the largest Lyapunov exponent needs. `opts.monodromy` is ignored.
+pub fn integrate_tangent<const N: usize, F: VectorField<N>>(
+    f: &F,
+    p: f64,
+    x0: &SVector<f64, N>,
+    w0: &SVector<f64, N>,
+    t_end: f64,
+    opts: &OdeOptions,
+) -> Result<(Solution<N>, SVector<f64, N>), OdeError> {
+    let opts = OdeOptions {
+        monodromy: false,
+        ..*opts
+    };
+    let run = run(f, p, x0, Column(*w0), t_end, &opts, |_, _, _| {
         ControlFlow::Continue(())
-    })?)
+    })?;
+    let w = run.carried.0;
+    Ok((checked(run)?, w))
 }
 
 /// As [`integrate`], but a numerical failure (step limit, vanishing step, NaN) is an outcome,
@@ -185,7 +246,20 @@ pub fn integrate_partial<const N: usize, F: VectorField<N>>(
     t_end: f64,
     opts: &OdeOptions,
 ) -> Result<Solution<N>, OdeError> {
-    Ok(run(f, p, x0, t_end, opts, |_, _, _| ControlFlow::Continue(()))?.sol)
+    fn go<const N: usize, F: VectorField<N>, C: Carried<N>>(
+        f: &F,
+        p: f64,
+        x0: &SVector<f64, N>,
+        t_end: f64,
+        opts: &OdeOptions,
+    ) -> Result<Solution<N>, OdeError> {
+        let phi0 = C::identity();
+        Ok(run(f, p, x0, phi0, t_end, opts, |_, _, _| {
+            ControlFlow::Continue(())
+        })?
+        .sol)
+    }
+    by_carried!(opts, go(f, p, x0, t_end, opts))
 }
 
 /// As [`integrate`], and also the largest $|x_k(t)|$ of each component over $[0, t_{end}]$,
@@ -212,14 +286,23 @@ pub fn integrate_with_extremes<const N: usize, F: VectorField<N>>(
     t_end: f64,
     opts: &OdeOptions,
 ) -> Result<(Solution<N>, SVector<f64, N>, SVector<f64, N>), OdeError> {
-    let (mut high, mut low) = (*x0, *x0);
-    let run = run(f, p, x0, t_end, opts, |_, start, trial| {
-        let (h, l) = Dense::new(start, trial).extremes();
-        high = high.sup(&h);
-        low = low.inf(&l);
-        ControlFlow::Continue(())
-    })?;
-    Ok((checked(run)?, high, low))
+    fn go<const N: usize, F: VectorField<N>, C: Carried<N>>(
+        f: &F,
+        p: f64,
+        x0: &SVector<f64, N>,
+        t_end: f64,
+        opts: &OdeOptions,
+    ) -> Result<(Solution<N>, SVector<f64, N>, SVector<f64, N>), OdeError> {
+        let (mut high, mut low) = (*x0, *x0);
+        let run = run(f, p, x0, C::identity(), t_end, opts, |_, start, trial| {
+            let (h, l) = Dense::new(start, trial).extremes();
+            high = high.sup(&h);
+            low = low.inf(&l);
+            ControlFlow::Continue(())
+        })?;
+        Ok((checked(run)?, high, low))
+    }
+    by_carried!(opts, go(f, p, x0, t_end, opts))
 }
 
 /// As [`integrate`], calling `observer(t, &x)` at each sample time (sorted ascending, within
@@ -248,27 +331,38 @@ pub fn integrate_observed<const N: usize, F: VectorField<N>>(
         }
         prev = ts;
     }
-    let mut next = 0;
-    let run = run(f, p, x0, t_end, opts, |_, start, trial| {
-        let mut dense = None;
-        while let Some(&ts) = samples.get(next).filter(|&&ts| ts <= trial.end.t) {
-            if ts >= trial.end.t {
-                observer(ts, &trial.end.x);
-            } else if ts <= start.t {
-                observer(ts, &start.x);
-            } else {
-                observer(
-                    ts,
-                    &dense
-                        .get_or_insert_with(|| Dense::new(start, trial))
-                        .eval(ts),
-                );
+    fn go<const N: usize, F: VectorField<N>, C: Carried<N>>(
+        f: &F,
+        p: f64,
+        x0: &SVector<f64, N>,
+        t_end: f64,
+        opts: &OdeOptions,
+        samples: &[f64],
+        observer: &mut dyn FnMut(f64, &SVector<f64, N>),
+    ) -> Result<Solution<N>, OdeError> {
+        let mut next = 0;
+        let run = run(f, p, x0, C::identity(), t_end, opts, |_, start, trial| {
+            let mut dense = None;
+            while let Some(&ts) = samples.get(next).filter(|&&ts| ts <= trial.end.t) {
+                if ts >= trial.end.t {
+                    observer(ts, &trial.end.x);
+                } else if ts <= start.t {
+                    observer(ts, &start.x);
+                } else {
+                    observer(
+                        ts,
+                        &dense
+                            .get_or_insert_with(|| Dense::new(start, trial))
+                            .eval(ts),
+                    );
+                }
+                next += 1;
             }
-            next += 1;
-        }
-        ControlFlow::Continue(())
-    })?;
-    checked(run)
+            ControlFlow::Continue(())
+        })?;
+        checked(run)
+    }
+    by_carried!(opts, go(f, p, x0, t_end, opts, samples, observer))
 }
 
 /// Integrates until the first upward crossing of the section $s(x) = 0$ ($s$ from negative to
@@ -298,39 +392,51 @@ pub fn integrate_to_section<const N: usize, F: VectorField<N>>(
             rule,
         });
     }
-    let mut s_prev = section(x0);
-    let run = run(f, p, x0, t_max, opts, |rk, start, trial| {
-        let (s0, s1) = (s_prev, section(&trial.end.x));
-        s_prev = s1;
-        let t1 = trial.end.t;
-        if t1 <= min_time || s1.is_nan() || s1 < 0.0 {
-            return ControlFlow::Continue(());
-        }
-        let dense = Dense::new(start, trial);
-        let (a, sa) = if start.t >= min_time {
-            (start.t, s0)
-        } else {
-            (min_time, section(&dense.eval(min_time)))
-        };
-        if sa.is_nan() || sa >= 0.0 {
-            return ControlFlow::Continue(());
-        }
-        if s1 <= 0.0 {
-            return ControlFlow::Break(trial.end);
-        }
-        let tc = brent(
-            &mut |t| section(&dense.eval(t)),
-            a,
-            t1,
-            sa,
-            s1,
-            4.0 * f64::EPSILON * t1.abs(),
-        );
-        let (t0, h) = (start.t, t1 - start.t);
-        ControlFlow::Break(land_on(rk, start, section, (a - t0, sa), (h, s1), tc - t0).end)
-    })?;
-    let hooked = run.hooked;
-    Ok(hooked.then_some(checked(run)?))
+    #[allow(clippy::too_many_arguments)]
+    fn go<const N: usize, F: VectorField<N>, C: Carried<N>>(
+        f: &F,
+        p: f64,
+        x0: &SVector<f64, N>,
+        t_max: f64,
+        section: &dyn Fn(&SVector<f64, N>) -> f64,
+        min_time: f64,
+        opts: &OdeOptions,
+    ) -> Result<Option<Solution<N>>, OdeError> {
+        let mut s_prev = section(x0);
+        let run = run(f, p, x0, C::identity(), t_max, opts, |rk, start, trial| {
+            let (s0, s1) = (s_prev, section(&trial.end.x));
+            s_prev = s1;
+            let t1 = trial.end.t;
+            if t1 <= min_time || s1.is_nan() || s1 < 0.0 {
+                return ControlFlow::Continue(());
+            }
+            let dense = Dense::new(start, trial);
+            let (a, sa) = if start.t >= min_time {
+                (start.t, s0)
+            } else {
+                (min_time, section(&dense.eval(min_time)))
+            };
+            if sa.is_nan() || sa >= 0.0 {
+                return ControlFlow::Continue(());
+            }
+            if s1 <= 0.0 {
+                return ControlFlow::Break(trial.end);
+            }
+            let tc = brent(
+                &mut |t| section(&dense.eval(t)),
+                a,
+                t1,
+                sa,
+                s1,
+                4.0 * f64::EPSILON * t1.abs(),
+            );
+            let (t0, h) = (start.t, t1 - start.t);
+            ControlFlow::Break(land_on(rk, start, section, (a - t0, sa), (h, s1), tc - t0).end)
+        })?;
+        let hooked = run.hooked;
+        Ok(hooked.then_some(checked(run)?))
+    }
+    by_carried!(opts, go(f, p, x0, t_max, section, min_time, opts))
 }
 
 /// One return of a trajectory to a Poincaré section ([`integrate_sections`]).
@@ -363,40 +469,51 @@ pub fn integrate_sections<const N: usize, F: VectorField<N>>(
     opts: &OdeOptions,
     on_return: &mut dyn FnMut(&Return<N>) -> ControlFlow<()>,
 ) -> Result<Solution<N>, OdeError> {
-    let mut s_prev = section(x0);
-    let (mut high, mut low) = (*x0, *x0);
-    let run = run(f, p, x0, t_end, opts, |_, start, trial| {
-        let dense = Dense::new(start, trial);
-        let (h, l) = dense.extremes();
-        high = high.sup(&h);
-        low = low.inf(&l);
-        let (s0, s1) = (s_prev, section(&trial.end.x));
-        s_prev = s1;
-        if !(s0 < 0.0 && s1 >= 0.0) {
-            return ControlFlow::Continue(());
-        }
-        let t1 = trial.end.t;
-        let tc = brent(
-            &mut |t| section(&dense.eval(t)),
-            start.t,
-            t1,
-            s0,
-            s1,
-            4.0 * f64::EPSILON * t1.abs(),
-        );
-        let r = Return {
-            t: tc,
-            x: dense.eval(tc),
-            high,
-            low,
-        };
-        (high, low) = (h, l);
-        match on_return(&r) {
-            ControlFlow::Continue(()) => ControlFlow::Continue(()),
-            ControlFlow::Break(()) => ControlFlow::Break(trial.end),
-        }
-    })?;
-    Ok(run.sol)
+    fn go<const N: usize, F: VectorField<N>, C: Carried<N>>(
+        f: &F,
+        p: f64,
+        x0: &SVector<f64, N>,
+        t_end: f64,
+        section: &dyn Fn(&SVector<f64, N>) -> f64,
+        opts: &OdeOptions,
+        on_return: &mut dyn FnMut(&Return<N>) -> ControlFlow<()>,
+    ) -> Result<Solution<N>, OdeError> {
+        let mut s_prev = section(x0);
+        let (mut high, mut low) = (*x0, *x0);
+        let run = run(f, p, x0, C::identity(), t_end, opts, |_, start, trial| {
+            let dense = Dense::new(start, trial);
+            let (h, l) = dense.extremes();
+            high = high.sup(&h);
+            low = low.inf(&l);
+            let (s0, s1) = (s_prev, section(&trial.end.x));
+            s_prev = s1;
+            if !(s0 < 0.0 && s1 >= 0.0) {
+                return ControlFlow::Continue(());
+            }
+            let t1 = trial.end.t;
+            let tc = brent(
+                &mut |t| section(&dense.eval(t)),
+                start.t,
+                t1,
+                s0,
+                s1,
+                4.0 * f64::EPSILON * t1.abs(),
+            );
+            let r = Return {
+                t: tc,
+                x: dense.eval(tc),
+                high,
+                low,
+            };
+            (high, low) = (h, l);
+            match on_return(&r) {
+                ControlFlow::Continue(()) => ControlFlow::Continue(()),
+                ControlFlow::Break(()) => ControlFlow::Break(trial.end),
+            }
+        })?;
+        Ok(run.sol)
+    }
+    by_carried!(opts, go(f, p, x0, t_end, section, opts, on_return))
 }
 
 /// As [`integrate`], returning the end times of the accepted steps (the last is `t_end`):
@@ -408,12 +525,21 @@ pub fn step_times<const N: usize, F: VectorField<N>>(
     t_end: f64,
     opts: &OdeOptions,
 ) -> Result<Vec<f64>, OdeError> {
-    let mut times = Vec::new();
-    checked(run(f, p, x0, t_end, opts, |_, _, trial| {
-        times.push(trial.end.t);
-        ControlFlow::Continue(())
-    })?)?;
-    Ok(times)
+    fn go<const N: usize, F: VectorField<N>, C: Carried<N>>(
+        f: &F,
+        p: f64,
+        x0: &SVector<f64, N>,
+        t_end: f64,
+        opts: &OdeOptions,
+    ) -> Result<Vec<f64>, OdeError> {
+        let mut times = Vec::new();
+        checked(run(f, p, x0, C::identity(), t_end, opts, |_, _, trial| {
+            times.push(trial.end.t);
+            ControlFlow::Continue(())
+        })?)?;
+        Ok(times)
+    }
+    by_carried!(opts, go(f, p, x0, t_end, opts))
 }
 
 /// The flow and one tangent of the time-normalised system on a fixed step sequence: with

@@ -18,7 +18,7 @@
 
 use nalgebra::SVector;
 
-use super::dopri::{Dense, Point, Rk, Trial};
+use super::dopri::{Carried, Dense, Point, Rk, Trial};
 use super::VectorField;
 
 /// A crossing closer than this fraction of the step to its start or end is taken to lie
@@ -77,12 +77,12 @@ impl Switches {
     /// Submits `trial` (from `p0`) to the surfaces: while one is crossed inside it, replaces
     /// it by the step that lands on the first crossed. Returns the step for the error test and
     /// whether it was shortened; its crossings are marked for [`Switches::commit`].
-    pub fn settle<const N: usize, F: VectorField<N>>(
+    pub fn settle<const N: usize, F: VectorField<N>, C: Carried<N>>(
         &mut self,
         rk: &mut Rk<'_, N, F>,
-        p0: &Point<N>,
-        mut trial: Trial<N>,
-    ) -> (Trial<N>, bool) {
+        p0: &Point<N, C>,
+        mut trial: Trial<N, C>,
+    ) -> (Trial<N, C>, bool) {
         let field = rk.field;
         let mut settled = None;
         for n in 0..=MAX_SHORTENINGS {
@@ -101,11 +101,11 @@ impl Switches {
     /// the dense output. Reports the first unless it is at the step's end, or `settled` (the
     /// surface the step was just re-taken to reach, whose crossing is at the end by
     /// construction), or `may_shorten` is false; then all crossings found are marked.
-    fn scan<const N: usize, F: VectorField<N>>(
+    fn scan<const N: usize, F: VectorField<N>, C>(
         &mut self,
         field: &F,
-        p0: &Point<N>,
-        trial: &Trial<N>,
+        p0: &Point<N, C>,
+        trial: &Trial<N, C>,
         settled: Option<usize>,
         may_shorten: bool,
     ) -> Scan {
@@ -184,14 +184,14 @@ fn bracket(g: &mut impl FnMut(f64) -> f64, t0: f64, h: f64, g0: f64, s: f64) -> 
 /// side) and `hi` (new side), each a pair $(\tau, g)$. Returns the step at the smallest
 /// $\tau$ found strictly on the new side, with the bracket below 4 ulps of $t$.
 /// The iterates are taken without $\Phi$, which only the returned step needs.
-pub(super) fn land_on<const N: usize, F: VectorField<N>>(
+pub(super) fn land_on<const N: usize, F: VectorField<N>, C: Carried<N>>(
     rk: &mut Rk<'_, N, F>,
-    p0: &Point<N>,
+    p0: &Point<N, C>,
     g: impl Fn(&SVector<f64, N>) -> f64,
     lo: (f64, f64),
     hi: (f64, f64),
     guess: f64,
-) -> Trial<N> {
+) -> Trial<N, C> {
     let ((mut a, mut fa), (mut b, mut fb)) = (lo, hi);
     let variational = rk.variational;
     rk.variational = false;

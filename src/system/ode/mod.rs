@@ -45,8 +45,9 @@ mod tests_events;
 use nalgebra::{SMatrix, SVector};
 
 pub use driver::{
-    integrate, integrate_observed, integrate_partial, integrate_sections, integrate_to_section,
-    integrate_with_extremes, integrate_with_peaks, step_times, tangent_on_steps, Return,
+    integrate, integrate_observed, integrate_partial, integrate_sections, integrate_tangent,
+    integrate_to_section, integrate_with_extremes, integrate_with_peaks, step_times,
+    tangent_on_steps, Return,
 };
 
 /// An autonomous vector field $\dot x = f(x; p)$ with its exact Jacobian.

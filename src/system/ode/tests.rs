@@ -93,6 +93,33 @@ fn linear_4d_two_oscillators() {
 }
 
 #[test]
+fn tangent_vector_matches_the_exponential() {
+    // One tangent vector w(t) = e^{At} w0 (closed form as above).
+    let (a, w, d, t) = (-0.2, 1.5, -0.7, 4.0);
+    let dm = Matrix3::new(a, -w, 0.0, w, a, 0.0, 0.0, 0.0, d);
+    let s = Matrix3::new(1.0, 2.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.0, 3.0);
+    let s_inv = s.try_inverse().expect("det S = 5");
+    let field = Linear { a: s * dm * s_inv };
+    let mut exp_d = Matrix3::zeros();
+    exp_d
+        .fixed_view_mut::<2, 2>(0, 0)
+        .copy_from(&rot_decay(a, w, t));
+    exp_d[(2, 2)] = (d * t).exp();
+    let exact = s * exp_d * s_inv;
+    let x0 = Vector3::new(0.3, -1.0, 2.0);
+    let w0 = Vector3::new(0.0, 1.0, -0.5);
+    let (sol, wt) = integrate_tangent(&field, 0.0, &x0, &w0, t, &opts(1e-11, 1e-13, true))
+        .expect("smooth linear problem");
+    assert!(rel_err(&sol.x, &(exact * x0)) < 1e-9);
+    assert!(rel_err(&wt, &(exact * w0)) < 1e-9, "{}", rel_err(&wt, &(exact * w0)));
+    assert!(sol.monodromy.is_none(), "a tangent run returns no matrix");
+    // and the run that carries nothing
+    let plain = integrate(&field, 0.0, &x0, t, &opts(1e-11, 1e-13, false)).expect("smooth");
+    assert!(rel_err(&plain.x, &(exact * x0)) < 1e-9);
+    assert!(plain.monodromy.is_none());
+}
+
+#[test]
 fn stuart_landau_cycle_returns_with_floquet_multipliers() {
     let (sl, mu) = (StuartLandau { omega: 1.3 }, 0.8);
     let t = sl.period();
