@@ -1,6 +1,11 @@
 //! Benches of vehicles (docs/model.md §11) on the shipped DTU Cooperrider studies.
 //!
-//! * `vehicle/rhs_{bogie,car}`: one f(x; V) of 12 and 28 states.
+//! * `vehicle/rhs_{bogie,car}`: one f(x; V) of 12 and 28 states; `vehicle/rhs_car_s1002`: the
+//!   car on S1002/UIC60 profiles (the profile-contact table, flange included).
+//! * `vehicle/variational_car`: f and JΦ of the DTU car (one stage of the variational
+//!   equations, as every shooting Newton step integrates them).
+//! * `vehicle/simulate_car_s1002_30s`: `critspeed simulate` of the S1002 car without the
+//!   files: 30 s at 100 m/s from y = 6 mm, rtol 1e-9, sampled every 2 ms.
 //! * `vehicle/linear_{bogie,car}`: the linear (Kalker) critical-speed solve from the model:
 //!   J0, J1 and the eigenvalue scan over the study's range and grid.
 //! * `vehicle/map_bogie_20x20`: a 20×20 stability map of the bogie (V_L and V_H over
@@ -46,6 +51,30 @@ fn benches(c: &mut Criterion) {
     c.bench_function("vehicle/rhs_car", |b| {
         b.iter(|| VectorField::<28>::rhs(&car, black_box(&xc), black_box(100.0)))
     });
+    let (_, s1002) = load("dtu-cooperrider-car-s1002.toml");
+    c.bench_function("vehicle/rhs_car_s1002", |b| {
+        b.iter(|| VectorField::<28>::rhs(&s1002, black_box(&xc), black_box(100.0)))
+    });
+    let phi = nalgebra::SMatrix::<f64, 28, 28>::from_fn(|i, j| {
+        f64::from(u8::from(i == j)) + 1e-3 * ((i * 28 + j) as f64).sin()
+    });
+    c.bench_function("vehicle/variational_car", |b| {
+        b.iter(|| VectorField::<28>::rhs_variational(&car, black_box(&xc), 100.0, black_box(&phi)))
+    });
+    let sim_opts = critspeed::system::ode::OdeOptions {
+        tol: critspeed::system::ode::Tolerances::new(1e-9, 1e-12).expect("tolerances"),
+        ..Default::default()
+    };
+    let x6 = critspeed::simulate::lateral_start(&s1002, 6e-3);
+    let mut group = c.benchmark_group("vehicle");
+    group.sample_size(10);
+    group.bench_function("simulate_car_s1002_30s", |b| {
+        b.iter(|| {
+            critspeed::simulate::simulate(black_box(&s1002), 100.0, &x6, 30.0, 2e-3, &sim_opts)
+                .map(|h| h.t.len())
+        })
+    });
+    group.finish();
     let kb = bogie.with_law(CreepLaw::Kalker);
     let kc = car.with_law(CreepLaw::Kalker);
     c.bench_function("vehicle/linear_bogie", |b| {

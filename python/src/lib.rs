@@ -316,6 +316,7 @@ fn bifurcation<'py>(
         let hooks = Hooks {
             progress: None,
             cancel,
+            branches: None,
         };
         let r = api::bifurcation(&p, hooks)?;
         save(out.as_ref(), &r.study, &mut w, || files::bifurcation(&r))?;
@@ -373,6 +374,7 @@ fn attractors<'py>(
         let hooks = Hooks {
             progress: None,
             cancel,
+            branches: None,
         };
         let (r, b) = api::attractors(&p, hooks, None)?;
         save(out.as_ref(), &r.study, &mut w, || {

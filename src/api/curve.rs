@@ -164,6 +164,7 @@ fn search_at_values(
                 let hooks = super::Hooks {
                     progress: None,
                     cancel,
+                    branches: None,
                 };
                 super::attractors(&prepared, hooks, None).map_err(|e| e.message())
             });

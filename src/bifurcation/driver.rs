@@ -50,6 +50,26 @@ pub(super) struct Setup<'a, const N: usize> {
     pub(super) extent: &'a (dyn Fn(&SVector<f64, N>) -> f64 + Sync),
     pub(super) progress: Option<&'a (dyn Fn(&BranchPoint<N>) + Sync)>,
     pub(super) cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
+    /// a line of text when a branch starts or ends ([`Hooks::branches`])
+    pub(super) say: Option<&'a (dyn Fn(&str) + Sync)>,
+}
+
+impl<const N: usize> Setup<'_, N> {
+    fn say(&self, text: &str) {
+        if let Some(f) = self.say {
+            f(text);
+        }
+    }
+
+    /// "branch `id` (kind): n cycles, stop reason".
+    fn ended(&self, id: usize, run: &Run<N>) {
+        self.say(&format!(
+            "branch {id} ({} cycles): {} cycles, {}",
+            run.kind.name(),
+            run.branch.points.len(),
+            stop_reason(&run.branch, self.opts)
+        ));
+    }
 }
 
 impl<const N: usize> Setup<'_, N> {
@@ -109,7 +129,11 @@ pub(super) fn analyse_and_track<const N: usize>(
     hooks: Hooks<'_>,
     track: Option<&FoldTracking<'_>>,
 ) -> Result<(BifurcationReport, Vec<FoldTrack>), String> {
-    let Hooks { progress, cancel } = hooks;
+    let Hooks {
+        progress,
+        cancel,
+        branches: say,
+    } = hooks;
     let ode = ode_options(opts.rtol)?;
     let kalker = model.with_law(CreepLaw::Kalker);
     let kalker_critical_speed_m_s = critical_speeds(
@@ -179,6 +203,9 @@ pub(super) fn analyse_and_track<const N: usize>(
     params.max_points = opts.max_points;
     // Newton cannot converge below the integration noise: tie its tolerance to rtol.
     params.newton_tol = newton_tol(opts.rtol, N);
+    // a branch that runs into stiffness (low speeds) ends with its reason instead of
+    // crawling for hours (the same bound as the refusal at the Hopf point)
+    params.max_steps_per_iteration = Some(super::MAX_STIFF_STEPS_PER_PERIOD);
     // max |y| of the leading wheelset over the cycle, located on the shooting integration's
     // dense output
     let amplitude = |_: &OrbitPoint<N>, peaks: &SVector<f64, N>| peaks[0];
@@ -206,6 +233,7 @@ pub(super) fn analyse_and_track<const N: usize>(
         extent: &extent,
         progress: Some(&report_point),
         cancel,
+        say,
     };
     let m = opts.segment_count();
     let start = OrbitPoint {
@@ -230,6 +258,7 @@ pub(super) fn analyse_and_track<const N: usize>(
         segments: m,
         branch: root,
     }];
+    setup.ended(0, &runs[0]);
     let mut notes = Vec::new();
     if opts.switch {
         switch_all(&setup, &mut runs, &mut notes);
@@ -306,8 +335,14 @@ fn switch_all<const N: usize>(
             if setup.cancel.is_some_and(|c| c()) {
                 return;
             }
+            setup.say(&format!(
+                "branch {}: switching at the {} point at {speed:.4} m/s of branch {next}",
+                runs.len(),
+                kind.name().replace('_', " ")
+            ));
             match switch_from(setup, runs, next, k) {
                 Ok(child) => {
+                    setup.ended(runs.len(), &child);
                     if let BranchStop::Rejoined { .. } = child.branch.stop {
                         if let Some(end) = child.branch.special.last() {
                             let at = (end.orbit.param, end.amplitude);
@@ -400,6 +435,19 @@ fn stop_reason<const N: usize>(branch: &Branch<N>, opts: &BifurcationOptions) ->
         BranchStop::Rejoined { param } => {
             format!("met the branch it was switched from again at {param:.4} m/s")
         }
+        BranchStop::TooStiff {
+            param,
+            steps_per_iteration,
+            mean_step,
+            stability_bound,
+        } => format!(
+            "stopped at {param:.4} m/s as too stiff: a cycle there took {steps_per_iteration:.0} \
+             integrator steps per Newton iteration (the limit is {:.0}), with a mean step of \
+             {mean_step:.2e} s against the explicit integrator's stability bound of \
+             {stability_bound:.2e} s there (3.3/|lambda|max of the centred motion: the creep \
+             forces' rates grow as 1/V). Cycles beyond were not computed",
+            super::MAX_STIFF_STEPS_PER_PERIOD
+        ),
     }
 }
 
@@ -510,4 +558,22 @@ fn fill<const N: usize>(
     let (vnl, sources) = super::vnl::from_continuation(report);
     report.nonlinear_critical_speed = vnl;
     report.nonlinear_sources = sources;
+    for (id, r) in runs.iter().enumerate() {
+        if let BranchStop::TooStiff { param, .. } = r.branch.stop {
+            let last_stable = r.branch.points.last().is_some_and(|p| p.floquet.stable());
+            report.notes.push(format!(
+                "branch {id} was stopped at {param:.4} m/s as too stiff for the explicit \
+                 integrator (its stop reason gives the figures); its cycles there are {}, so \
+                 {}",
+                if last_stable { "stable" } else { "unstable" },
+                if last_stable {
+                    "a hunting motion exists at that speed and V_NL may lie lower: the reported \
+                     V_NL is an upper bound"
+                } else {
+                    "the branch beyond may still turn stable at lower speeds: V_NL is not \
+                     proven below that speed"
+                }
+            ));
+        }
+    }
 }

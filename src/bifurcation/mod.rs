@@ -431,6 +431,7 @@ pub fn analyse_with_progress(
         Hooks {
             progress,
             cancel: None,
+            branches: None,
         },
     )
 }
@@ -468,6 +469,9 @@ pub struct Hooks<'a> {
     /// asked before each continuation step; `true` ends the branch there (stop reason
     /// "cancelled"): how a Python caller's Ctrl-C reaches the computation
     pub cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
+    /// called with a line of text when a branch ends (its cycles and why it ended) and when
+    /// a switched branch starts (from which point): what a long diagram is doing
+    pub branches: Option<&'a (dyn Fn(&str) + Sync)>,
 }
 
 /// [`analyse`] with a progress report and a cancellation hook, any layout.

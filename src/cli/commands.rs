@@ -192,11 +192,12 @@ pub(super) fn continuation(p: &Prepared) -> Result<BifurcationReport, Failure> {
     let plan = p.plan();
     let opts = plan.bifurcation_options();
     statusln!(
-        "continuing the hunting cycles of '{}' over [{}, {}] m/s (up to {} cycles, amplitude {} mm)",
+        "continuing the hunting cycles of '{}' over [{}, {}] m/s (up to {} cycles a branch, {} branches, amplitude {} mm)",
         plan.name,
         opts.speed_range.0,
         opts.speed_range.1,
         opts.max_points,
+        if opts.switch { opts.max_branches } else { 1 },
         opts.max_amplitude * 1e3
     );
     let started = std::time::Instant::now();
@@ -214,9 +215,12 @@ pub(super) fn continuation(p: &Prepared) -> Result<BifurcationReport, Failure> {
             );
         }
     };
+    // a branch's end or a switch: on its own line (after the terminal's last cycle line)
+    let branch_line = |text: &str| statusln!("{}  {text}", if tty { "\r" } else { "" });
     let hooks = Hooks {
         progress: Some(&progress),
         cancel: None,
+        branches: Some(&branch_line),
     };
     let report = api::bifurcation(p, hooks)?;
     let clear = if tty { "\r" } else { "" };

@@ -271,11 +271,21 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> String {
             }
         )
     });
-    let _ = writeln!(
-        s,
-        "  nonlinear critical speed V_NL          {}{how}",
-        speed(r.nonlinear_critical_speed.map(|v| v.0)),
-    );
+    // a branch stopped as too stiff (driver's stop reason) leaves the speeds below unexplored
+    let stiff_stop = r
+        .branches
+        .iter()
+        .filter(|b| b.stop_reason.contains("as too stiff"))
+        .filter_map(|b| r.cycles.iter().filter(|c| c.branch == b.id).last())
+        .map(|c| c.speed_m_s)
+        .fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.max(v))));
+    let vnl = match (r.nonlinear_critical_speed, stiff_stop) {
+        (None, Some(v)) => format!(
+            "none found above {v:.4} m/s (a branch was stopped there as too stiff; see the note)"
+        ),
+        (vnl, _) => speed(vnl.map(|v| v.0)),
+    };
+    let _ = writeln!(s, "  nonlinear critical speed V_NL          {vnl}{how}");
     let searched = r
         .nonlinear_sources
         .iter()

@@ -52,6 +52,12 @@ pub struct ContinuationParams {
     pub scale: Vec<f64>,
     /// relative tolerance of located special points, on the arclength
     pub locate_tol: f64,
+    /// the most integrator steps (accepted and rejected) one Newton iteration of an accepted
+    /// corrector may take before the branch stops there ([`BranchStop::TooStiff`]); `None`:
+    /// no limit. Where a branch goes to low speeds the creep forces' time constant shrinks
+    /// as 1/V, the explicit integrator's step is then set by stability rather than accuracy,
+    /// and each cycle can cost minutes; the limit makes such a branch end with a reason.
+    pub max_steps_per_iteration: Option<f64>,
 }
 
 impl ContinuationParams {
@@ -71,6 +77,7 @@ impl ContinuationParams {
             max_amplitude,
             scale,
             locate_tol: 1e-9,
+            max_steps_per_iteration: None,
         }
     }
 }
@@ -93,6 +100,16 @@ pub enum BranchStop {
     StepTooSmall { param: f64, newton: NewtonStop },
     /// the caller's cancellation hook asked to stop (checked before each step)
     Cancelled,
+    /// the last cycle's Newton iterations took more integrator steps each than
+    /// [`ContinuationParams::max_steps_per_iteration`]: the branch ends at that cycle
+    TooStiff {
+        param: f64,
+        steps_per_iteration: f64,
+        /// the cycle's integrated time over its steps (s)
+        mean_step: f64,
+        /// Dormand–Prince's stability bound 3.3/|λ|max at the centre there (s)
+        stability_bound: f64,
+    },
 }
 
 /// One accepted orbit of the branch.
@@ -467,6 +484,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 };
             }
             let zp = self.predict(&z, &tangent, ds);
+            let steps_before = counters.steps.load(Relaxed) + counters.rejected.load(Relaxed);
             let c = match self.correct(&zp, &tangent, seed.as_ref(), &counters) {
                 Ok(c) if c.tangent.dot(&tangent) >= p.max_angle.cos() || points.is_empty() => c,
                 Ok(_) => {
@@ -481,6 +499,9 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                     continue;
                 }
             };
+            // the corrector's own steps (the locating correctors below are not counted)
+            let corrector_steps = counters.steps.load(Relaxed) + counters.rejected.load(Relaxed)
+                - steps_before;
             let amplitude = (self.amplitude)(&c.orbit, &c.peaks);
             let extent = self.extent.map_or(amplitude, |e| e(&c.peaks));
             let here = self.rejoin_measure(&c);
@@ -539,10 +560,21 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 first_measure = here;
             }
             let param = point.orbit.param;
+            let steps_per_iteration =
+                corrector_steps as f64 / point.newton_iterations.max(1) as f64;
             if let Some(report) = self.progress {
                 report(&point);
             }
             points.push(point);
+            if p
+                .max_steps_per_iteration
+                .is_some_and(|limit| steps_per_iteration > limit)
+            {
+                let period = points.last().map_or(f64::NAN, |q| q.orbit.period);
+                if let Some(stiff) = self.stiffness(param, period, steps_per_iteration) {
+                    break stiff;
+                }
+            }
             z = pack(&c.orbit);
             tangent = c.tangent;
             seed = Some(c.seed);
@@ -571,6 +603,36 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             stop,
             stats,
         }
+    }
+
+    /// Whether the last cycle's steps (`steps_per_iteration` per Newton iteration) are set by
+    /// stiffness: its mean step is within a factor 2 of Dormand–Prince's stability bound on
+    /// the negative real axis, $3.3/|λ|_{max}$, with $|λ|_{max}$ the spectral radius of the
+    /// Jacobian of the centred motion at `param` (the creep forces' modes, whose rates grow
+    /// as 1/V). Steps far below that bound are set by accuracy (steep contact transitions,
+    /// long periods) and do not stop the branch. `period` is the cycle's whole period (the
+    /// symmetric form integrates half of it). `Some` stop with the figures, else `None`.
+    fn stiffness(&self, param: f64, period: f64, steps_per_iteration: f64) -> Option<BranchStop> {
+        let j = self.shooting.field.jacobian(&SVector::zeros(), param);
+        let rho = crate::stability::eigenvalues(&j)?
+            .iter()
+            .map(|z| z.0.hypot(z.1))
+            .fold(0.0, f64::max);
+        let time = if self.shooting.symmetric {
+            0.5 * period
+        } else {
+            period
+        };
+        let mean_step = time / steps_per_iteration;
+        let bound = 3.3 / rho;
+        (mean_step.is_finite() && rho > 0.0 && mean_step <= 2.0 * bound).then_some(
+            BranchStop::TooStiff {
+                param,
+                steps_per_iteration,
+                mean_step,
+                stability_bound: bound,
+            },
+        )
     }
 
     /// The [`Rejoin`] measure $d$ of a corrected orbit, in scaled units; `None` when the test

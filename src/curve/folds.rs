@@ -421,6 +421,7 @@ impl<'r> Diagrams<'_, 'r> {
         let hooks = Hooks {
             progress: None,
             cancel: Some(&stopped),
+            branches: None,
         };
         let (_diagram, tracks) = bifurcation::analyse_with_fold_tracks(
             &self.study.base.name,

@@ -412,18 +412,25 @@ impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
         let mut kp = [C::zero(); 7];
         k[0] = p0.f;
         kp[0] = p0.f_phi;
-        let (mut x1, mut phi1) = (p0.x, p0.phi);
-        for s in 1..7 {
+        for s in 1..6 {
             let a = &A[s - 1][..s];
             let xs = combine(&p0.x, h, a, &k[..s]);
-            let phis = if self.variational {
-                C::combine(&p0.phi, h, a, &kp[..s])
+            if self.variational {
+                let phis = C::combine(&p0.phi, h, a, &kp[..s]);
+                (k[s], kp[s]) = self.eval(&xs, &phis);
             } else {
-                p0.phi
-            };
-            (k[s], kp[s]) = self.eval(&xs, &phis);
-            (x1, phi1) = (xs, phis);
+                (k[s], kp[s]) = self.eval(&xs, &p0.phi);
+            }
         }
+        // the 7th stage is the new point (FSAL): kept, not copied at every stage
+        let a = &A[5][..6];
+        let x1 = combine(&p0.x, h, a, &k[..6]);
+        let phi1 = if self.variational {
+            C::combine(&p0.phi, h, a, &kp[..6])
+        } else {
+            p0.phi
+        };
+        (k[6], kp[6]) = self.eval(&x1, &phi1);
         let ex = combine(&SVector::zeros(), h, &E, &k);
         let mut err = scaled_rms(&ex, &p0.x, &x1, &self.tol);
         if self.variational {
