@@ -11,6 +11,13 @@
 //!
 //! The search is timed alone: its continuation is computed once, outside the loop, as the
 //! command does before it searches. The whole commands are timed in docs/performance.md.
+//!
+//! Worst cases (issue 30: a plausible-looking change to a shipped study that made a run many
+//! times slower), on the machine's threads:
+//!
+//! * `worst_case/bifurcation_dtu_bogie_e2100`: the DTU bogie's diagram with
+//!   `young_modulus = "2100 GPa"`, whose branch turns down to low speeds where the creep
+//!   forces make the model stiff; it now ends with the stiffness stop at 7.2 m/s.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use critspeed::api::{self, Hooks, Prepared, Source};
@@ -31,6 +38,43 @@ fn prepared(name: &str) -> Prepared {
         .join(name);
     let plan = Source::file(&path).and_then(|s| s.plan()).expect("study");
     Prepared::new(plan).expect("model")
+}
+
+/// A shipped study with one line replaced (`key = …` at the start of a line), read from
+/// `studies/` so that its relative paths resolve there.
+fn perturbed(name: &str, key: &str, value: &str) -> Prepared {
+    let folder = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("studies");
+    let text = std::fs::read_to_string(folder.join(name)).expect("study text");
+    let text: String = text
+        .lines()
+        .map(|l| {
+            if l.starts_with(&format!("{key} =")) {
+                format!("{key} = {value}\n")
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    let source = Source {
+        text,
+        origin: format!("{name} with {key} = {value}"),
+        folder: Some(folder),
+    };
+    Prepared::new(source.plan().expect("study")).expect("model")
+}
+
+fn worst_cases(c: &mut Criterion) {
+    let stiff = perturbed(
+        "dtu-cooperrider-bogie.toml",
+        "young_modulus",
+        "\"2100 GPa\"",
+    );
+    let mut g = c.benchmark_group("worst_case");
+    g.sample_size(10).measurement_time(Duration::from_secs(40));
+    g.bench_function("bifurcation_dtu_bogie_e2100", |b| {
+        b.iter(|| api::bifurcation(black_box(&stiff), Hooks::default()).map(|r| r.cycles.len()))
+    });
+    g.finish();
 }
 
 fn benches(c: &mut Criterion) {
@@ -66,5 +110,5 @@ fn benches(c: &mut Criterion) {
     }
 }
 
-criterion_group!(attractor_benches, benches);
+criterion_group!(attractor_benches, worst_cases, benches);
 criterion_main!(attractor_benches);

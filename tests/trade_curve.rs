@@ -202,6 +202,7 @@ fn a_vnl_interval_end_agrees_with_whole_diagrams() {
         let hooks = critspeed::bifurcation::Hooks {
             progress: None,
             cancel: None,
+            branches: None,
         };
         let r = critspeed::api::bifurcation(&p, hooks).expect("diagram");
         r.nonlinear_critical_speed.expect("V_NL").0

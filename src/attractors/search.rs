@@ -462,6 +462,19 @@ struct Descent {
 /// bisection of the death speed. Returns the path, the bracket and the fate.
 fn descend<const N: usize>(ctx: &Ctx<'_>, start: &Motion, grid: &[f64]) -> Descent {
     let opts = ctx.opts;
+    // where the model turns stiff the descent stops, as the continuation's branches do
+    // (docs/nonlinear.md, "Where a branch ends"): `Some((speed, steps per period))`
+    let centre = crate::stability::LinearSystem::<N>::at_centre(ctx.model);
+    let too_stiff = |v: f64, period: Option<f64>| -> Option<(f64, f64)> {
+        let t = period?;
+        let rho = crate::stability::eigenvalues(&centre.jacobian(v))?
+            .iter()
+            .map(|z| z.0.hypot(z.1))
+            .fold(0.0, f64::max);
+        let steps = rho * t / 3.3;
+        (steps > crate::bifurcation::MAX_STIFF_STEPS_PER_PERIOD).then_some((v, steps))
+    };
+    let mut stiff: Option<(f64, f64)> = None;
     let mut path = vec![start.clone()];
     let mut targets: Vec<f64> = grid
         .iter()
@@ -484,6 +497,11 @@ fn descend<const N: usize>(ctx: &Ctx<'_>, start: &Motion, grid: &[f64]) -> Desce
             }
             let largest = (opts.descent_step * here.speed_m_s).max(opts.bracket);
             step = step.min(largest);
+            let next = (here.speed_m_s - step).max(target);
+            if let Some(s) = too_stiff(next, here.period_s) {
+                stiff = Some(s);
+                break 'targets;
+            }
             let (v, m, kept) = loop {
                 let v = (here.speed_m_s - step).max(target);
                 let (m, kept) = ctx.step_to::<N>(&here, v);
@@ -502,10 +520,20 @@ fn descend<const N: usize>(ctx: &Ctx<'_>, start: &Motion, grid: &[f64]) -> Desce
         }
     }
     let Some((mut lo, mut below)) = dead else {
+        let fate = match stiff {
+            Some((v, steps)) => format!(
+                "not followed below: at {v:.2} m/s the model is too stiff for the explicit \
+                 integrator (about {steps:.0} steps per period of the cycle, more than {:.0}, \
+                 set by the stability bound 3.3/|lambda|max of the centred motion); it may \
+                 live lower",
+                crate::bifurcation::MAX_STIFF_STEPS_PER_PERIOD
+            ),
+            None => "exists down to the lowest speed searched".into(),
+        };
         return Descent {
             path,
             dies: None,
-            fate: "exists down to the lowest speed searched".into(),
+            fate,
             below: None,
         };
     };

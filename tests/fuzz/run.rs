@@ -91,6 +91,7 @@ fn library(src: &Source, budget: Option<Duration>) -> Outcome {
         let hooks = Hooks {
             progress: None,
             cancel: Some(&cancel),
+            branches: None,
         };
         let r = api::bifurcation(&p, hooks);
         let f = r.as_ref().map(files::bifurcation);
