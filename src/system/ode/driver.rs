@@ -116,7 +116,7 @@ where
             };
             let mut trial = rk.step(&cur, h_try);
             trial.end.t = target;
-            let (trial, shortened) = switches.settle(&mut rk, &cur, trial);
+            let shortened = switches.settle(&mut rk, &cur, &mut trial);
             non_finite = !(trial.err.is_finite() && finite(&trial.end));
             if non_finite || trial.err > 1.0 {
                 // A non-finite result is often an overshoot into a region where the field
