@@ -2,6 +2,8 @@
 //!
 //! * `vehicle/rhs_{bogie,car}`: one f(x; V) of 12 and 28 states; `vehicle/rhs_car_s1002`: the
 //!   car on S1002/UIC60 profiles (the profile-contact table, flange included).
+//! * `vehicle/eigenvalues_car`: the eigenvalues of the car's 28-state Jacobian at 100 m/s
+//!   (one point of that scan).
 //! * `vehicle/variational_car`: f and JΦ of the DTU car (one stage of the variational
 //!   equations, as every shooting Newton step integrates them).
 //! * `vehicle/simulate_car_s1002_30s`: `critspeed simulate` of the S1002 car without the
@@ -23,7 +25,7 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use critspeed::bifurcation;
 use critspeed::contact::creep::CreepLaw;
-use critspeed::stability::{critical_speeds, LinearSystem};
+use critspeed::stability::{critical_speeds, eigenvalues, LinearSystem};
 use critspeed::study;
 use critspeed::sweep::{self, Shard, SweepOptions, SweepStudy};
 use critspeed::system::ode::VectorField;
@@ -88,6 +90,10 @@ fn benches(c: &mut Criterion) {
             let sys = LinearSystem::<28>::at_centre(black_box(&kc));
             critical_speeds(&sys, CreepLaw::Kalker, &cp.linear)
         })
+    });
+    let jc = LinearSystem::<28>::at_centre(&kc).jacobian(100.0);
+    c.bench_function("vehicle/eigenvalues_car", |b| {
+        b.iter(|| eigenvalues(black_box(&jc)))
     });
     let text = std::fs::read_to_string(
         Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/dtu-cooperrider-bogie.toml"),

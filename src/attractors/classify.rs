@@ -30,8 +30,8 @@ use super::{BodyAmplitude, Motion, MotionKind};
 use crate::bifurcation::solve_cycle;
 use crate::model::{BodyKind, Vehicle};
 use crate::system::ode::{
-    integrate_sections, integrate_tangent, integrate_with_extremes, OdeOptions, Return,
-    StopReason, Tolerances,
+    integrate_sections, integrate_tangent, integrate_with_extremes, OdeOptions, Return, StopReason,
+    Tolerances,
 };
 
 /// What the classification needs besides the model.

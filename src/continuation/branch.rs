@@ -500,8 +500,8 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 }
             };
             // the corrector's own steps (the locating correctors below are not counted)
-            let corrector_steps = counters.steps.load(Relaxed) + counters.rejected.load(Relaxed)
-                - steps_before;
+            let corrector_steps =
+                counters.steps.load(Relaxed) + counters.rejected.load(Relaxed) - steps_before;
             let amplitude = (self.amplitude)(&c.orbit, &c.peaks);
             let extent = self.extent.map_or(amplitude, |e| e(&c.peaks));
             let here = self.rejoin_measure(&c);
@@ -566,8 +566,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
                 report(&point);
             }
             points.push(point);
-            if p
-                .max_steps_per_iteration
+            if p.max_steps_per_iteration
                 .is_some_and(|limit| steps_per_iteration > limit)
             {
                 let period = points.last().map_or(f64::NAN, |q| q.orbit.period);

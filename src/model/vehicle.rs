@@ -184,7 +184,13 @@ struct Lower {
 }
 
 impl Lower {
-    fn new(n: usize, stiffness: &[f64], damping: &[f64], mass: &[f64], wheelsets: &[usize]) -> Self {
+    fn new(
+        n: usize,
+        stiffness: &[f64],
+        damping: &[f64],
+        mass: &[f64],
+        wheelsets: &[usize],
+    ) -> Self {
         let mut lower = Lower {
             entries: Vec::new(),
             starts: vec![0],

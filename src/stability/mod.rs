@@ -31,6 +31,7 @@ mod brent;
 mod eigen_scan;
 mod hopf;
 mod lyapunov;
+mod small_eigen;
 mod spectrum;
 
 pub use eigen_scan::EIGEN_GRID_POINTS;

@@ -111,7 +111,11 @@ fn tangent_vector_matches_the_exponential() {
     let (sol, wt) = integrate_tangent(&field, 0.0, &x0, &w0, t, &opts(1e-11, 1e-13, true))
         .expect("smooth linear problem");
     assert!(rel_err(&sol.x, &(exact * x0)) < 1e-9);
-    assert!(rel_err(&wt, &(exact * w0)) < 1e-9, "{}", rel_err(&wt, &(exact * w0)));
+    assert!(
+        rel_err(&wt, &(exact * w0)) < 1e-9,
+        "{}",
+        rel_err(&wt, &(exact * w0))
+    );
     assert!(sol.monodromy.is_none(), "a tangent run returns no matrix");
     // and the run that carries nothing
     let plain = integrate(&field, 0.0, &x0, t, &opts(1e-11, 1e-13, false)).expect("smooth");

@@ -16,12 +16,20 @@ use super::*;
 fn dead_band_run(field: &DeadBand, v0: f64, t_end: f64, o: &OdeOptions) -> (Solution<2>, Vec<f64>) {
     let mut on_surface = Vec::new();
     let x0 = Vector2::new(0.0, v0);
-    let r = run(field, 0.0, &x0, Matrix2::identity(), t_end, o, |_, _, trial| {
-        if (trial.end.x[0].abs() - field.clearance).abs() < 1e-9 {
-            on_surface.push(trial.end.t);
-        }
-        ControlFlow::Continue(())
-    })
+    let r = run(
+        field,
+        0.0,
+        &x0,
+        Matrix2::identity(),
+        t_end,
+        o,
+        |_, _, trial| {
+            if (trial.end.x[0].abs() - field.clearance).abs() < 1e-9 {
+                on_surface.push(trial.end.t);
+            }
+            ControlFlow::Continue(())
+        },
+    )
     .expect("valid arguments");
     (r.sol, on_surface)
 }
