@@ -9,8 +9,12 @@
 //! eigenvalues alone, G&VL §7.5.6). Here the matrix is a fixed-size stack array, nothing is
 //! allocated, the transformations are applied only to the active block, and the loops run over
 //! contiguous row slices. On the car's 28-state Jacobian (`studies/dtu-cooperrider-car.toml`,
-//! Kalker, 64 speeds over 1–300 m/s) it takes 46 µs a matrix against 100 µs for nalgebra's
-//! Schur form (the fastest of repeated runs, 2-core machine).
+//! Kalker) it takes 46 µs a matrix against 94–110 µs for nalgebra's Schur form
+//! (`cargo bench --bench vehicle -- eigenvalues_car`, 2-core machine; the same ratio over 64
+//! speeds from 1 to 300 m/s). Once a faer eigenvector solve of that size has run in the
+//! process (`spectrum_at`), the upper halves of the vector registers are left dirty on that
+//! machine and all (non-VEX) SSE code, this routine's and nalgebra's alike, runs about 2.5
+//! times slower until something clears them (`benches/vehicle.rs`).
 //!
 //! **The method**, step by step as in the references:
 //!
@@ -46,9 +50,6 @@ const EXCEPTIONAL_AFTER: usize = 10;
 /// guarantees termination.
 const BALANCE_SWEEPS: usize = 100;
 
-#[repr(align(64))]
-struct Aligned<const N: usize>(Rows<N>);
-
 /// A row-major N×N array: row slices are contiguous for the reflections from either side.
 type Rows<const N: usize> = [[f64; N]; N];
 
@@ -56,16 +57,14 @@ type Rows<const N: usize> = [[f64; N]; N];
 /// parts and real eigenvalues with an imaginary part of exactly 0; `None` if `m` has a
 /// non-finite entry, the QR iteration did not converge in $30N$ sweeps, or a result is not
 /// finite. The order is the order of the deflated blocks along the diagonal.
-#[inline(never)]
 pub fn eigenvalues<const N: usize>(m: &SMatrix<f64, N, N>) -> Option<[(f64, f64); N]> {
     if !m.iter().all(|x| x.is_finite()) {
         return None;
     }
-    let mut al = Aligned(std::array::from_fn(|r| std::array::from_fn(|c| m[(r, c)])));
-    let a = &mut al.0;
-    balance(a);
-    hessenberg(a);
-    let ev = hessenberg_eigenvalues(a)?;
+    let mut a: Rows<N> = std::array::from_fn(|r| std::array::from_fn(|c| m[(r, c)]));
+    balance(&mut a);
+    hessenberg(&mut a);
+    let ev = hessenberg_eigenvalues(&mut a)?;
     ev.iter()
         .all(|z| z.0.is_finite() && z.1.is_finite())
         .then_some(ev)

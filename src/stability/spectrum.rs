@@ -81,15 +81,16 @@ pub fn spectrum_at<const N: usize>(j: &SMatrix<f64, N, N>, speed_m_s: f64) -> Op
 }
 
 /// The eigenvalues of `j` as (re, im), without vectors; `None` if not finite or QR failed
-/// (the stack routine of [`small_eigen`](super::small_eigen) first; nalgebra's Schur
-/// decomposition if it does not converge, then faer's eigenvalues).
+/// (a stack routine for small fixed sizes first: balancing, Householder Hessenberg form and
+/// Francis double-shift QR; nalgebra's Schur decomposition if it does not converge, then
+/// faer's eigenvalues).
 pub fn eigenvalues<const N: usize>(j: &SMatrix<f64, N, N>) -> Option<Vec<(f64, f64)>> {
     if !j.iter().all(|x| x.is_finite()) {
         return None;
     }
     // balancing, Householder Hessenberg and Francis QR on a stack copy, eigenvalues only:
     // about half the time of nalgebra's Schur form below on the car's 28-state Jacobian (46
-    // against 100 µs a matrix), and the scan's grid is its hot loop
+    // against 94–110 µs a matrix, small_eigen's docs), and the scan's grid is its hot loop
     if let Some(ev) = super::small_eigen::eigenvalues(j) {
         if ev.iter().all(|z| z.0.is_finite() && z.1.is_finite()) {
             return Some(ev.to_vec());
