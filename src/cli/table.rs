@@ -276,7 +276,7 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> String {
         .branches
         .iter()
         .filter(|b| b.stop_reason.contains("as too stiff"))
-        .filter_map(|b| r.cycles.iter().filter(|c| c.branch == b.id).last())
+        .filter_map(|b| r.cycles.iter().rfind(|c| c.branch == b.id))
         .map(|c| c.speed_m_s)
         .fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.max(v))));
     let vnl = match (r.nonlinear_critical_speed, stiff_stop) {
