@@ -47,9 +47,9 @@ fn linear_rotation_decay_matches_exponential() {
     assert!((sol.t - t).abs() < 1e-15);
 }
 
-#[test]
-fn linear_3d_matches_exponential_by_similarity() {
-    // A = S D S⁻¹ with D = blockdiag([[a, -w], [w, a]], d): e^{At} = S e^{Dt} S⁻¹.
+/// A 3-state linear field A = S D S⁻¹, D = blockdiag([[a, −w], [w, a]], d), its end time t
+/// and the closed form e^{At} = S e^{Dt} S⁻¹.
+fn similar_3d() -> (Linear<3>, f64, Matrix3<f64>) {
     let (a, w, d, t) = (-0.2, 1.5, -0.7, 4.0);
     let dm = Matrix3::new(a, -w, 0.0, w, a, 0.0, 0.0, 0.0, d);
     let s = Matrix3::new(1.0, 2.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.0, 3.0); // det 5
@@ -61,6 +61,12 @@ fn linear_3d_matches_exponential_by_similarity() {
         .copy_from(&rot_decay(a, w, t));
     exp_d[(2, 2)] = (d * t).exp();
     let exact = s * exp_d * s_inv;
+    (field, t, exact)
+}
+
+#[test]
+fn linear_3d_matches_exponential_by_similarity() {
+    let (field, t, exact) = similar_3d();
     let x0 = Vector3::new(0.3, -1.0, 2.0);
     let sol =
         integrate(&field, 0.0, &x0, t, &opts(1e-11, 1e-13, true)).expect("smooth linear problem");
@@ -95,17 +101,7 @@ fn linear_4d_two_oscillators() {
 #[test]
 fn tangent_vector_matches_the_exponential() {
     // One tangent vector w(t) = e^{At} w0 (closed form as above).
-    let (a, w, d, t) = (-0.2, 1.5, -0.7, 4.0);
-    let dm = Matrix3::new(a, -w, 0.0, w, a, 0.0, 0.0, 0.0, d);
-    let s = Matrix3::new(1.0, 2.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.0, 3.0);
-    let s_inv = s.try_inverse().expect("det S = 5");
-    let field = Linear { a: s * dm * s_inv };
-    let mut exp_d = Matrix3::zeros();
-    exp_d
-        .fixed_view_mut::<2, 2>(0, 0)
-        .copy_from(&rot_decay(a, w, t));
-    exp_d[(2, 2)] = (d * t).exp();
-    let exact = s * exp_d * s_inv;
+    let (field, t, exact) = similar_3d();
     let x0 = Vector3::new(0.3, -1.0, 2.0);
     let w0 = Vector3::new(0.0, 1.0, -0.5);
     let (sol, wt) = integrate_tangent(&field, 0.0, &x0, &w0, t, &opts(1e-11, 1e-13, true))
