@@ -61,10 +61,16 @@ impl<const N: usize> Setup<'_, N> {
         }
     }
 
-    /// "branch `id` (kind): n cycles, stop reason".
+    /// "branch `id` (kind): n cycles, stop reason", and where its segments were doubled.
     fn ended(&self, id: usize, run: &Run<N>) {
+        let doubled: String = run
+            .branch
+            .refined
+            .iter()
+            .map(|(v, m)| format!("; shooting segments doubled to {m} after {v:.4} m/s"))
+            .collect();
         self.say(&format!(
-            "branch {id} ({} cycles): {} cycles, {}",
+            "branch {id} ({} cycles): {} cycles, {}{doubled}",
             run.kind.name(),
             run.branch.points.len(),
             stop_reason(&run.branch, self.opts)
@@ -206,6 +212,8 @@ pub(super) fn analyse_and_track<const N: usize>(
     // a branch that runs into stiffness (low speeds) ends with its reason instead of
     // crawling for hours (the same bound as the refusal at the Hopf point)
     params.max_steps_per_iteration = Some(super::MAX_STIFF_STEPS_PER_PERIOD);
+    // where Newton fails at every step size, finer shooting before giving up (4× at most)
+    params.refinements = super::SEGMENT_REFINEMENTS;
     // max |y| of the leading wheelset over the cycle, located on the shooting integration's
     // dense output
     let amplitude = |_: &OrbitPoint<N>, peaks: &SVector<f64, N>| peaks[0];
@@ -539,6 +547,8 @@ fn fill<const N: usize>(
             switch_multiplier: r.switch_multiplier,
             stop_reason: stop_reason(&r.branch, opts),
             cycles: r.branch.points.len(),
+            segments: r.segments,
+            segments_doubled: r.branch.refined.clone(),
         });
     }
     report.stop_reason = report

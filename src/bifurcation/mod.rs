@@ -61,9 +61,10 @@ pub struct BifurcationOptions {
     /// bitwise identical to the serial run)
     pub parallel: bool,
     /// shooting segments of the half period (study key `[bifurcation] segments`); 0 (default):
-    /// one per rayon thread when `parallel` (at most 8), else 1. Each segment is an equal piece of independent work;
-    /// for a given count the results do not depend on `parallel`, and different counts agree
-    /// to the Newton tolerance
+    /// [`DEFAULT_SEGMENTS`], whatever the thread count. Each segment is an equal piece of
+    /// independent work, run on rayon threads when `parallel`; for a given count the results
+    /// do not depend on `parallel` nor on the thread count (bit for bit), and different counts
+    /// agree to the Newton tolerance on the cycles they both find
     pub segments: usize,
     /// a flag another computation raises while it has the rayon pool busy: the diagram's
     /// integrations run serially while it is up (the same diagram); default `None`
@@ -97,13 +98,11 @@ impl BifurcationOptions {
             .map_or(self.max_amplitude, |g| g.min(self.max_amplitude))
     }
 
-    /// The shooting segments used: `segments`, or for 0 one per rayon thread when `parallel`
-    /// (at most 8), else 1.
+    /// The shooting segments used: `segments`, or [`DEFAULT_SEGMENTS`] for 0.
     pub fn segment_count(&self) -> usize {
-        match (self.segments, self.parallel) {
-            (0, true) => rayon::current_num_threads().clamp(1, 8),
-            (0, false) => 1,
-            (m, _) => m,
+        match self.segments {
+            0 => DEFAULT_SEGMENTS,
+            m => m,
         }
     }
 }
@@ -169,6 +168,12 @@ pub struct BranchRow {
     pub stop_reason: String,
     /// the cycles computed on it
     pub cycles: usize,
+    /// the shooting segments it started with (of the half period on symmetric branches, of
+    /// the whole period otherwise)
+    pub segments: usize,
+    /// where the continuation doubled its segments after Newton had failed at every step
+    /// size: the speed of the last cycle before (m/s) and the new count
+    pub segments_doubled: Vec<(f64, usize)>,
 }
 
 /// One cycle of a branch, for output.
@@ -287,6 +292,19 @@ fn ode_options(rtol: f64) -> Result<OdeOptions, String> {
 /// $|\lambda|_{max}/(3.3 f)$ steps. The shipped studies need 4 to 25; 10⁴ is 400 times the
 /// stiffest of them, and already makes one shooting solve of a car take seconds.
 pub const MAX_STIFF_STEPS_PER_PERIOD: f64 = 1e4;
+
+/// Shooting segments of the half period when the study does not say
+/// (`[bifurcation] segments`): a property of the computation, never of the machine, so that
+/// every machine computes the same diagram; the thread count changes only the speed. Four
+/// pieces keep up to four cores busy with the flows and their monodromies (eight with the
+/// speed-perturbed flows). Measured on 2 threads of the 2-core machine, 1/2/4/8 segments:
+/// DTU bogie at 72.7 kN s/m 7.4/6.5/5.6/9.1 s, DTU car 14.7/9.0/8.6/10.3 s, S1002 wheelset
+/// 0.94/0.65/0.69/0.70 s, S1002 bogie 20.5/12.7/14.5/15.6 s.
+pub const DEFAULT_SEGMENTS: usize = 4;
+
+/// How many times a branch may double its shooting segments where Newton fails at every
+/// step size ([`crate::continuation::ContinuationParams::refinements`]).
+pub const SEGMENT_REFINEMENTS: usize = 2;
 
 /// Refuses a model too stiff for the explicit shooting integration (a mass or an inertia far
 /// too small, a stiffness or a damping far too large), in milliseconds and with the figures,

@@ -225,6 +225,8 @@ mod tests {
             switch_multiplier: None,
             stop_reason: String::new(),
             cycles: 0,
+            segments: 1,
+            segments_doubled: Vec::new(),
         }
     }
 

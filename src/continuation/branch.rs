@@ -58,6 +58,12 @@ pub struct ContinuationParams {
     /// as 1/V, the explicit integrator's step is then set by stability rather than accuracy,
     /// and each cycle can cost minutes; the limit makes such a branch end with a reason.
     pub max_steps_per_iteration: Option<f64>,
+    /// how many times a branch may double its shooting segments where the step falls below
+    /// `ds_min` (it then goes on from its last cycle with the finer shooting); default 0.
+    /// Multiple shooting with more, shorter segments is better conditioned where the flow
+    /// over a segment is sensitive (near flange contact, at sharp turns of asymmetric
+    /// branches), and the count depends only on the branch, never on the machine.
+    pub refinements: usize,
 }
 
 impl ContinuationParams {
@@ -78,6 +84,7 @@ impl ContinuationParams {
             scale,
             locate_tol: 1e-9,
             max_steps_per_iteration: None,
+            refinements: 0,
         }
     }
 }
@@ -191,6 +198,46 @@ pub struct Branch<const N: usize> {
     pub stop: BranchStop,
     /// where the work went
     pub stats: BranchStats,
+    /// where the segments were doubled (`ContinuationParams::refinements`): the speed of the
+    /// last cycle before and the new segment count
+    pub refined: Vec<(f64, usize)>,
+}
+
+/// A cycle of an earlier run to go on from, with that run's first rejoin measure.
+type Resume<const N: usize> = (BranchPoint<N>, Option<DVector<f64>>);
+
+impl<const N: usize> Branch<N> {
+    /// This branch followed by `more`, a run resumed from this branch's last cycle (its first
+    /// point, dropped here; with no cycles here, a fresh start) with the segments of
+    /// `refined` (the speed where it resumed, the new count).
+    fn followed_by(mut self, more: Branch<N>, refined: (f64, usize)) -> Branch<N> {
+        let offset = self.points.len().saturating_sub(1);
+        let skip = usize::from(!self.points.is_empty());
+        self.points.extend(more.points.into_iter().skip(skip));
+        self.special
+            .extend(more.special.into_iter().map(|sp| SpecialPoint {
+                after: sp.after + offset,
+                ..sp
+            }));
+        self.stop = more.stop;
+        self.stats = self.stats.plus(&more.stats);
+        self.refined.push(refined);
+        self.refined.extend(more.refined);
+        self
+    }
+}
+
+impl BranchStats {
+    fn plus(&self, o: &BranchStats) -> BranchStats {
+        BranchStats {
+            failed_steps: self.failed_steps + o.failed_steps,
+            angle_rejections: self.angle_rejections + o.angle_rejections,
+            locate_corrections: self.locate_corrections + o.locate_corrections,
+            newton_iterations: self.newton_iterations + o.newton_iterations,
+            integrator_steps: self.integrator_steps + o.integrator_steps,
+            integrator_rejected: self.integrator_rejected + o.integrator_rejected,
+        }
+    }
 }
 
 /// Solver statistics of a branch: where the work went (all counts include the location of
@@ -448,19 +495,82 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
     /// injected from outside (`examples/join_latency.rs`). The pool's other workers are kept
     /// awake for the run (`keep_awake`), also when it starts on a worker already (under
     /// `ThreadPool::install`); serial runs (a sweep's points) leave the pool as it is.
+    ///
+    /// Where the step falls below `ds_min`, the branch goes on from its last cycle (or, with
+    /// none, from `start` again) with twice the segments, at most `params.refinements` times;
+    /// [`Branch::refined`] lists where.
     pub fn run(&self, start: OrbitPoint<N>, direction: DVector<f64>) -> Branch<N> {
+        let (mut branch, mut first) = self.run_awake(&start, &direction, None);
+        let mut m = self.shooting.segments.max(1);
+        for _ in 0..self.params.refinements {
+            if !matches!(branch.stop, BranchStop::StepTooSmall { .. })
+                || branch.points.len() >= self.params.max_points
+            {
+                break;
+            }
+            m *= 2;
+            let mut finer = self.with_segments(m);
+            // the resumed cycle counts again in the finer run's points
+            finer.params.max_points = self.params.max_points + 1 - branch.points.len().max(1);
+            let at = branch.points.last().map_or(start.param, |q| q.orbit.param);
+            let resume = branch.points.last().map(|q| (q.clone(), first.clone()));
+            let (more, f) = finer.run_awake(&start, &direction, resume);
+            first = f;
+            branch = branch.followed_by(more, (at, m));
+        }
+        branch
+    }
+
+    /// This continuation with `m` shooting segments.
+    fn with_segments(&self, m: usize) -> Continuation<'a, N, F> {
+        let s = &self.shooting;
+        Continuation {
+            shooting: Shooting {
+                field: s.field,
+                symmetric: s.symmetric,
+                ode: s.ode,
+                parallel: s.parallel,
+                busy: s.busy.clone(),
+                dp_rel: s.dp_rel,
+                segments: m,
+            },
+            params: self.params.clone(),
+            amplitude: self.amplitude,
+            progress: self.progress,
+            cancel: self.cancel,
+            extent: self.extent,
+            rejoin: self.rejoin,
+        }
+    }
+
+    /// [`Self::run_here`] on a worker of the pool with its other workers awake, when the
+    /// shooting is parallel.
+    fn run_awake(
+        &self,
+        start: &OrbitPoint<N>,
+        direction: &DVector<f64>,
+        resume: Option<Resume<N>>,
+    ) -> (Branch<N>, Option<DVector<f64>>) {
         if self.shooting.parallel
             && rayon::current_num_threads() > 1
             && self.shooting.busy.is_none()
         {
-            return keep_awake(|| self.run_here(start, direction));
+            return keep_awake(|| self.run_here(start, direction, resume));
         }
-        self.run_here(start, direction)
+        self.run_here(start, direction, resume)
     }
 
-    fn run_here(&self, start: OrbitPoint<N>, direction: DVector<f64>) -> Branch<N> {
+    /// One run from `start` along `direction`, or from a `resume`d cycle of an earlier run
+    /// (with that run's first rejoin measure); returns the branch (the resumed cycle is its
+    /// first point) and the first rejoin measure.
+    fn run_here(
+        &self,
+        start: &OrbitPoint<N>,
+        direction: &DVector<f64>,
+        resume: Option<Resume<N>>,
+    ) -> (Branch<N>, Option<DVector<f64>>) {
         let p = &self.params;
-        let mut z = pack(&start);
+        let mut z = pack(start);
         let mut tangent = direction.normalize();
         let mut ds = p.ds_initial;
         let mut points: Vec<BranchPoint<N>> = Vec::new();
@@ -468,6 +578,12 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         let mut last_failure = NewtonStop::Converged;
         let mut seed: Option<SegmentSeed<N>> = None;
         let mut first_measure: Option<DVector<f64>> = None;
+        if let Some((point, first)) = resume {
+            z = pack(&point.orbit);
+            tangent = point.tangent.clone();
+            first_measure = first;
+            points.push(point);
+        }
         let counters = Counters::default();
         let mut stats = BranchStats::default();
         let stop = loop {
@@ -596,12 +712,14 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         stats.newton_iterations = counters.newton.load(Relaxed);
         stats.integrator_steps = counters.steps.load(Relaxed);
         stats.integrator_rejected = counters.rejected.load(Relaxed);
-        Branch {
+        let branch = Branch {
             points,
             special,
             stop,
             stats,
-        }
+            refined: Vec::new(),
+        };
+        (branch, first_measure)
     }
 
     /// Whether the last cycle's steps (`steps_per_iteration` per Newton iteration) are set by

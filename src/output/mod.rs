@@ -275,6 +275,11 @@ pub fn bifurcation_json(r: &crate::bifurcation::BifurcationReport) -> Value {
                 "cycles": b.cycles,
                 "speed_range_m_s": (b.cycles > 0).then_some([lo, hi]),
                 "stop_reason": b.stop_reason,
+                "segments": b.segments,
+                "segments_doubled": b.segments_doubled.iter().map(|(v, m)| json!({
+                    "after_speed_m_s": v,
+                    "segments": m,
+                })).collect::<Vec<_>>(),
             })
         })
         .collect();

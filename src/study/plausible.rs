@@ -315,7 +315,7 @@ const OTHERS: &[Range] = &[
     row("bifurcation.max_points", Dimensionless, (10.0, 1e4), Bounds::closed(2.0, 1e5),
         "branches of tens to thousands of cycles"),
     row("bifurcation.segments", Dimensionless, (0.0, 32.0), Bounds::closed(0.0, 64.0),
-        "shooting segments (0: one per thread)"),
+        "shooting segments (0: the default, 4)"),
     row("sweep.operating_speed", Speed, (1.0, 200.0), SPEED,
         "service speeds up to 720 km/h"),
 ];

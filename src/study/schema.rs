@@ -297,7 +297,7 @@ pub struct BifurcationSection {
     pub ds_max: Option<f64>,
     #[serde(default)]
     pub max_points: Option<usize>,
-    /// shooting segments of the half period (0: one per thread when parallel)
+    /// shooting segments of the half period (0: the default, 4, on any machine)
     #[serde(default)]
     pub segments: Option<usize>,
     /// switch onto asymmetric and doubled branches (default true)
