@@ -276,7 +276,8 @@ pub fn attractors(
     fig.title = format!("{}: attractors over the continued branches", r.study);
     for a in &r.attractors {
         let dies = a.dies_m_s.map_or(String::new(), |d| {
-            format!(", dies in [{:.2}, {:.2}] m/s", d.0, d.1)
+            let open = if a.open_below { ", open below" } else { "" };
+            format!(", dies in [{:.2}, {:.2}] m/s{open}", d.0, d.1)
         });
         use crate::attractors::MotionKind as M;
         // an attractor in its kind's colour (the branches' colours for cycles)

@@ -173,6 +173,7 @@ fn search_at_values(
             continuation_m_s: v,
             search_m_s: None,
             bracket_m_s: None,
+            bracket_open: false,
             error: None,
         };
         let place = spec.show(p);
@@ -194,23 +195,29 @@ fn search_at_values(
                     "at {place} neither the continuation nor the attractor search gives V_NL (the search found no hunting attractor in its speed range{})",
                     left_range(&a)
                 )),
-                Some((speed, bracket, _)) => {
+                Some((speed, bracket, id)) => {
                     at.search_m_s = Some(speed);
                     at.bracket_m_s = bracket;
+                    at.bracket_open = a.attractors.get(id).is_some_and(|x| x.open_below);
                     let (lo, hi) = bracket.unwrap_or((speed, speed));
+                    let open = if at.bracket_open {
+                        ", a bracket open at its lower end: no verdict there, it may live lower"
+                    } else {
+                        ""
+                    };
                     match (known, judge(v, speed, bracket)) {
                         (false, _) => {
                             report.notes.push(format!(
-                                "at {place} the continuation gives no V_NL; the attractor search finds hunting down to {speed:.3} m/s (it dies in [{lo:.3}, {hi:.3}] m/s): V_NL there is the search's"
+                                "at {place} the continuation gives no V_NL; the attractor search finds hunting down to {speed:.3} m/s (it dies in [{lo:.3}, {hi:.3}] m/s{open}): V_NL there is the search's"
                             ));
                             found_at.push((p, speed, VnlMethod::AttractorSearch));
                         }
                         (true, Verdict::SearchHigher) => report.notes.push(format!(
-                            "at {place} the attractor search's lowest hunting attractor dies in [{lo:.3}, {hi:.3}] m/s, above {continuation}: the continuation's value stands (the search missed that cycle)"
+                            "at {place} the attractor search's lowest hunting attractor dies in [{lo:.3}, {hi:.3}] m/s{open}, above {continuation}: the continuation's value stands (the search missed that cycle)"
                         )),
                         (true, Verdict::SearchLower) => {
                             report.notes.push(format!(
-                                "at {place} the attractor search finds hunting down to {speed:.3} m/s (it dies in [{lo:.3}, {hi:.3}] m/s), below {continuation}: V_NL there is the search's (an attractor no followed fold bounds)"
+                                "at {place} the attractor search finds hunting down to {speed:.3} m/s (it dies in [{lo:.3}, {hi:.3}] m/s{open}), below {continuation}: V_NL there is the search's (an attractor no followed fold bounds)"
                             ));
                             found_at.push((p, speed, VnlMethod::AttractorSearch));
                         }

@@ -152,6 +152,9 @@ pub struct Attractor {
     /// where it dies: (a speed where it no longer exists, the lowest where it does) (m/s);
     /// `None` when it still exists at the lowest speed searched
     pub dies_m_s: Option<(f64, f64)>,
+    /// the bracket is open: below its lower end the motion had no verdict even after the
+    /// extended simulation ([`search::UNSETTLED_EXTENSIONS`]), so the attractor may live lower
+    pub open_below: bool,
     /// what the motion does below that, in words
     pub fate: String,
     /// the continuation's branch whose cycle it equals, where one does (id, and the cycle's

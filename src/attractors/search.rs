@@ -426,9 +426,39 @@ impl Ctx<'_> {
             Some((x, _, true)) => x.as_slice(),
             _ => here.state.as_slice(),
         };
-        let m = self.classify::<N>(v, start);
+        let m = self.until_settled::<N>(v, self.classify::<N>(v, start));
         let kept = self.continues(here, &m, tracked.as_ref());
         (m, kept)
+    }
+
+    /// An unsettled motion `m` at `v` simulated on from where it stopped, up to
+    /// [`UNSETTLED_EXTENSIONS`] more times the settle time, until it has a verdict (it
+    /// decays, settles on an attractor, or leaves the geometry); a motion with a verdict is
+    /// returned as it is. A bracket of death or a jump must not rest on a motion that was
+    /// merely slow (the bottleneck just below a fold of cycles).
+    fn until_settled<const N: usize>(&self, v: f64, mut m: Motion) -> Motion {
+        let mut time = m.time_s;
+        let mut runs = 1;
+        while m.kind == MotionKind::Unsettled
+            && m.state.len() == N
+            && runs <= UNSETTLED_EXTENSIONS
+            && !self.cancelled()
+        {
+            let state = std::mem::take(&mut m.state);
+            m = self.classify::<N>(v, &state);
+            time += m.time_s;
+            runs += 1;
+        }
+        if runs > 1 {
+            m.note = format!(
+                "{}{}{runs} simulations of up to {:.0} s each, each from where the last                  stopped: {time:.1} s in all",
+                m.note,
+                if m.note.is_empty() { "" } else { "; " },
+                self.settle.max_time
+            );
+            m.time_s = time;
+        }
+        m
     }
 
     fn classify<const N: usize>(&self, speed: f64, x: &[f64]) -> Motion {
@@ -455,7 +485,13 @@ struct Descent {
     dies: Option<(f64, f64)>,
     fate: String,
     below: Option<Motion>,
+    /// the motion below the bracket has no verdict: the attractor may live lower
+    open: bool,
 }
+
+/// How many more times the settle time an unsettled motion of a descent is simulated on
+/// before it counts as unsettled ([`Ctx::until_settled`]).
+pub const UNSETTLED_EXTENSIONS: usize = 3;
 
 /// The descent of one attractor from `start` (its motion at the speed where it was found):
 /// every grid speed below, with steps of at most `descent_step` of the speed, then the
@@ -535,6 +571,7 @@ fn descend<const N: usize>(ctx: &Ctx<'_>, start: &Motion, grid: &[f64]) -> Desce
             dies: None,
             fate,
             below: None,
+            open: false,
         };
     };
     // bisection: each trial from the lowest state where it lived
@@ -569,13 +606,20 @@ fn descend<const N: usize>(ctx: &Ctx<'_>, start: &Motion, grid: &[f64]) -> Desce
             "leaves the contact geometry's range below ({:.3} mm)",
             below.excursion_m * 1e3
         ),
+        MotionKind::Unsettled => format!(
+            "dies in an open bracket: at {lo:.4} m/s the motion has no verdict ({}), so the \
+             attractor may live lower",
+            below.note
+        ),
         k => format!("{} below ({})", k.name(), below.note),
     };
+    let open = below.kind == MotionKind::Unsettled;
     Descent {
         path,
         dies: Some((lo, alive)),
         fate,
         below: Some(below),
+        open,
     }
 }
 
@@ -636,6 +680,7 @@ fn identify(
         found_at_m_s: v,
         path: vec![m.clone()],
         dies_m_s: None,
+        open_below: false,
         fate: String::new(),
         branch: match_branch(continued, m),
     });
@@ -695,12 +740,14 @@ fn follow<const N: usize>(
                 dies,
                 fate,
                 below,
+                open,
             },
         ) in followed
         {
             if let Some(a) = attractors.get_mut(id) {
                 a.path = path;
                 a.dies_m_s = dies;
+                a.open_below = open;
                 a.fate = fate;
             }
             landed.extend(below.filter(|m| m.kind.is_hunting()));

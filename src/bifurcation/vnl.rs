@@ -47,6 +47,25 @@ pub struct VnlCandidate {
     pub branch: Option<usize>,
     /// the search's bracket (m/s): the attractor exists at the upper end and not at the lower
     pub bracket_m_s: Option<(f64, f64)>,
+    /// the bracket is open: at its lower end the motion had no verdict (still drifting after
+    /// the extended simulation), so the attractor may live lower and the speed is an upper
+    /// bound of its death, not a bracket
+    pub bracket_open: bool,
+}
+
+impl VnlCandidate {
+    /// ", dies in [a, b] m/s" with `digits` decimals, and whether the bracket is open; empty
+    /// without a bracket.
+    pub fn bracket_words(&self, digits: usize) -> String {
+        match self.bracket_m_s {
+            None => String::new(),
+            Some((a, b)) if self.bracket_open => format!(
+                ", dies in [{a:.digits$}, {b:.digits$}] m/s, a bracket open at its lower end (no \
+                 verdict there after the extended simulation: the attractor may live lower)"
+            ),
+            Some((a, b)) => format!(", dies in [{a:.digits$}, {b:.digits$}] m/s"),
+        }
+    }
 }
 
 /// Every candidate from the continuation.
@@ -62,6 +81,7 @@ pub fn continuation_candidates(r: &BifurcationReport) -> Vec<VnlCandidate> {
                 what: "supercritical Hopf point".into(),
                 branch: Some(0),
                 bracket_m_s: None,
+                bracket_open: false,
             });
         }
     }
@@ -82,6 +102,7 @@ pub fn continuation_candidates(r: &BifurcationReport) -> Vec<VnlCandidate> {
                 ),
                 branch: Some(s.branch),
                 bracket_m_s: None,
+                bracket_open: false,
             });
         }
     }
@@ -93,6 +114,7 @@ pub fn continuation_candidates(r: &BifurcationReport) -> Vec<VnlCandidate> {
             what: format!("stable {} cycle", kind_of(c.branch).name()),
             branch: Some(c.branch),
             bracket_m_s: None,
+            bracket_open: false,
         });
     }
     out
@@ -122,11 +144,12 @@ pub fn search_candidate(r: &crate::attractors::AttractorReport) -> Option<VnlCan
     let a = r.attractors.get(id)?;
     Some(VnlCandidate {
         speed_m_s: v,
-        located: bracket.is_some(),
+        located: bracket.is_some() && !a.open_below,
         method: VnlMethod::AttractorSearch,
         what: format!("{} (attractor {id})", a.kind.name()),
         branch: a.branch.map(|b| b.0),
         bracket_m_s: bracket,
+        bracket_open: a.open_below,
     })
 }
 
@@ -149,7 +172,7 @@ pub fn combine(b: &mut BifurcationReport, search: &crate::attractors::AttractorR
             c.what,
             s.speed_m_s,
             s.what,
-            s.bracket_m_s.map_or(String::new(), |d| format!(", dies in [{:.4}, {:.4}] m/s", d.0, d.1)),
+            s.bracket_words(4),
             (c.speed_m_s - s.speed_m_s).abs(),
             if s.speed_m_s < c.speed_m_s {
                 "The search found hunting below every stable cycle the continuation reached: an attractor that no followed branch leads to (or one on a branch not followed: see max_branches), a torus or chaos. V_NL is the search's."

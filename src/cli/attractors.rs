@@ -86,10 +86,7 @@ pub(super) fn table(r: &AttractorReport, b: &BifurcationReport) -> String {
             c.method.name(),
             c.speed_m_s,
             c.what,
-            c.bracket_m_s.map_or(String::new(), |d| format!(
-                ", dies in [{:.4}, {:.4}] m/s",
-                d.0, d.1
-            ))
+            c.bracket_words(4)
         );
     }
     for a in &r.attractors {

@@ -361,6 +361,8 @@ pub struct SearchAt {
     pub search_m_s: Option<f64>,
     /// the speeds between which that attractor dies (m/s)
     pub bracket_m_s: Option<(f64, f64)>,
+    /// the bracket is open at its lower end (no verdict there: the attractor may live lower)
+    pub bracket_open: bool,
     /// why the search failed, when it did
     pub error: Option<String>,
 }

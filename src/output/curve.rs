@@ -78,6 +78,7 @@ pub fn curve_json(r: &CurveReport) -> Value {
                 "continuation_m_s": a.continuation_m_s,
                 "search_m_s": a.search_m_s,
                 "bracket_m_s": a.bracket_m_s.map(|b| [b.0, b.1]),
+                "bracket_open": a.bracket_open,
                 "error": a.error,
             })
         })

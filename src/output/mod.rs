@@ -230,6 +230,7 @@ pub fn vnl_candidate_json(c: &crate::bifurcation::VnlCandidate) -> Value {
         "what": c.what,
         "branch": c.branch,
         "bracket_m_s": c.bracket_m_s.map(|(a, b)| [a, b]),
+        "bracket_open": c.bracket_open,
     })
 }
 
