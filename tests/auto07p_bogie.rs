@@ -5,122 +5,23 @@
 //! agree with critspeed's to 1.4e-12 and 1e-11 (rhs-check.txt); it continues the branch
 //! of symmetric cycles from the Hopf point through its four folds at NTST = 40, 80, 160 and
 //! 320 (NCOL 4, EPSL = EPSU = 1e-10, exact derivatives). The tolerances below are the
-//! measured agreement with margin (scripts/auto07p/bogie-validation-draft.md has the tables).
+//! measured agreement with margin (docs/VALIDATION.md section 11 has the tables).
 
-use std::path::PathBuf;
+#[allow(dead_code)]
+#[path = "validation_sections/auto07p_bogie.rs"]
+mod auto07p_bogie;
 
-use critspeed::bifurcation::{analyse, cycle_at};
+use auto07p_bogie::{auto_run, critspeed_cycle, model, rel, NTSTS};
+use critspeed::bifurcation::analyse;
 use critspeed::continuation::SpecialKind;
-use critspeed::model::Vehicle;
-use critspeed::study;
-use critspeed::system::ode::{integrate_with_peaks, OdeOptions, Tolerances};
-use nalgebra::SVector;
-
-const NTSTS: [usize; 4] = [40, 80, 160, 320];
-
-fn data(file: &str) -> String {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/auto07p/bogie")
-        .join(file);
-    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-/// One AUTO user point (scripts/auto07p/bogie-summary.py's `cycle` line).
-struct AutoCycle {
-    speed: f64,
-    period: f64,
-    amplitude_mm: f64,
-    critical: f64,
-    x0: [f64; 12],
-}
-
-/// One AUTO run: the Hopf point (V, Hz), the folds (V, max y1 mm, period) and the user points.
-struct AutoRun {
-    hopf: (f64, f64),
-    folds: Vec<(f64, f64, f64)>,
-    cycles: Vec<AutoCycle>,
-}
-
-fn auto_run(ntst: usize) -> AutoRun {
-    let text = data(&format!("ntst-{ntst}.txt"));
-    let mut run = AutoRun {
-        hopf: (f64::NAN, f64::NAN),
-        folds: Vec::new(),
-        cycles: Vec::new(),
-    };
-    for line in text.lines().filter(|l| !l.starts_with('#')) {
-        let mut f = line.split_whitespace();
-        let key = f.next().unwrap_or_default();
-        let v: Vec<f64> = f.map(|s| s.parse().expect("number")).collect();
-        match key {
-            "hopf" => run.hopf = (v[0], v[1]),
-            "fold" => run.folds.push((v[0], v[1], v[2])),
-            "cycle" => run.cycles.push(AutoCycle {
-                speed: v[0],
-                period: v[1],
-                amplitude_mm: v[2],
-                critical: v[3],
-                x0: std::array::from_fn(|i| v[5 + i]),
-            }),
-            _ => {}
-        }
-    }
-    run
-}
-
-fn model() -> (critspeed::study::Plan, Vehicle) {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("studies/dtu-cooperrider-bogie.toml");
-    let plan = study::load(&path).expect("study");
-    let model = plan.model().expect("model");
-    (plan, model)
-}
-
-/// critspeed's cycle at AUTO's speed from AUTO's start state: period (s), max y of the leading
-/// wheelset (mm, peak of the dense output over half a period), largest nontrivial multiplier
-/// modulus and the trivial multiplier's distance from 1.
-fn critspeed_cycle(model: &Vehicle, c: &AutoCycle, rtol: f64) -> (f64, f64, f64, f64) {
-    let (orbit, floquet, _) = cycle_at(model, c.speed, c.x0, c.period, rtol).expect("cycle");
-    let ode = OdeOptions {
-        tol: Tolerances::new(rtol, rtol * 1e-3).expect("tolerances"),
-        ..OdeOptions::default()
-    };
-    let (_, peaks) = integrate_with_peaks(model, c.speed, &orbit.x0, 0.5 * orbit.period, &ode)
-        .expect("integration");
-    let peaks: SVector<f64, 12> = peaks;
-    (
-        orbit.period,
-        peaks[0] * 1e3,
-        floquet.max_nontrivial,
-        floquet.trivial_error,
-    )
-}
-
-fn rel(a: f64, b: f64) -> f64 {
-    ((a - b) / b).abs()
-}
 
 /// The stored check of bogie.f90 against critspeed's right-hand side and Jacobian.
 #[test]
 fn auto07p_right_hand_side_is_critspeeds() {
-    let text = data("rhs-check.txt");
-    let number = |line: &str, after: &str| -> f64 {
-        let rest = &line[line.find(after).expect("label") + after.len()..];
-        rest.split_whitespace()
-            .next()
-            .and_then(|s| s.trim_end_matches(')').parse().ok())
-            .expect("number")
-    };
-    let f: Vec<f64> = text
-        .lines()
-        .filter(|l| l.starts_with("states:"))
-        .map(|l| number(l, "worst relative difference:"))
-        .collect();
-    let j: Vec<f64> = text
-        .lines()
-        .filter(|l| l.starts_with("worst Jacobian"))
-        .map(|l| number(l, "difference:"))
-        .collect();
-    assert_eq!((f.len(), j.len()), (3, 3), "{text}");
+    let sets = auto07p_bogie::rhs_check();
+    let f: Vec<f64> = sets.iter().map(|r| r.1).collect();
+    let j: Vec<f64> = sets.iter().map(|r| r.2).collect();
+    assert_eq!((f.len(), j.len()), (3, 3));
     assert!(f.iter().all(|&d| d < 5e-12), "{f:?}");
     assert!(j.iter().all(|&d| d < 5e-11), "{j:?}");
 }

@@ -17,6 +17,9 @@ use critspeed::study;
 mod common;
 use common::{reference, root};
 
+#[allow(dead_code)]
+#[path = "validation_sections/auto07p_bogie.rs"]
+mod auto07p_bogie_section;
 #[path = "validation_sections/auto07p.rs"]
 mod auto07p_section;
 #[path = "validation_sections/closed.rs"]
@@ -252,7 +255,8 @@ fn report() -> String {
     auto07p_section::section(&mut s);
     curve_section::section(&mut s);
     fold_curve_section::section(&mut s);
-    s.push_str("## 11. Not yet compared\n\nA published wheelset or bogie stability result with its linear and nonlinear critical speeds: none was found for a single wheelset (section 6); Cooperrider's bogie, as used by Kaas-Petersen and True, is a bogie, and this tool models one wheelset.\n");
+    auto07p_bogie_section::section(&mut s);
+    s.push_str("## 12. Not yet compared\n\nA published wheelset or bogie stability result with its linear and nonlinear critical speeds: none was found for a single wheelset (section 6). Cooperrider's bogie, as used by Kaas-Petersen and True, is within critspeed's models (bogies and whole cars, docs/model.md §11), but no published nonlinear critical speed of it is compared: the DTU DYTSI repository, the source of `studies/dtu-cooperrider-bogie.toml`'s parameters, holds none (see the study's header comment). Section 11 compares that study only against AUTO-07p on the same equations.\n");
     s
 }
 

@@ -439,6 +439,8 @@ impl Ctx<'_> {
     fn until_settled<const N: usize>(&self, v: f64, mut m: Motion) -> Motion {
         let mut time = m.time_s;
         let mut runs = 1;
+        // the excursions of the successive unsettled runs (over each one's second half)
+        let mut excursions = vec![m.excursion_m];
         while m.kind == MotionKind::Unsettled
             && m.state.len() == N
             && runs <= UNSETTLED_EXTENSIONS
@@ -448,10 +450,20 @@ impl Ctx<'_> {
             m = self.classify::<N>(v, &state);
             time += m.time_s;
             runs += 1;
+            if m.kind == MotionKind::Unsettled {
+                excursions.push(m.excursion_m);
+            }
+        }
+        if m.kind == MotionKind::Unsettled {
+            if let Some(note) = slow_decay(&excursions) {
+                m.kind = MotionKind::Equilibrium;
+                m.note = note;
+            }
         }
         if runs > 1 {
             m.note = format!(
-                "{}{}{runs} simulations of up to {:.0} s each, each from where the last                  stopped: {time:.1} s in all",
+                "{}{}{runs} simulations of up to {:.0} s each, each from where the last \
+                 stopped: {time:.1} s in all",
                 m.note,
                 if m.note.is_empty() { "" } else { "; " },
                 self.settle.max_time
@@ -476,6 +488,33 @@ impl Ctx<'_> {
             &self.settle,
         )
     }
+}
+
+/// Whether the excursions of successive unsettled runs of one motion (each over its run's
+/// second half, m; runs of equal length) show a decay to the centred motion too slow for one
+/// run's test. Near a Hopf point the amplitude r obeys the normal form r' = μr − ar³, for
+/// which u = 1/r² obeys the linear u' = −2μu + 2a: u's increments over equal times grow
+/// (μ < 0: r decays exponentially), stay equal (μ = 0: r ∝ 1/√t) or shrink towards a cycle of
+/// r² = μ/a (μ > 0). So the motion decays when, over at least four runs, every excursion is
+/// smaller than the one before and the increments of 1/r² do not shrink. A slow passage below
+/// a fold of cycles (a bottleneck) also speeds up as it leaves. `Some` note in words.
+fn slow_decay(excursions: &[f64]) -> Option<String> {
+    let n = excursions.len();
+    if n < 4 || excursions.iter().any(|&e| !(e.is_finite() && e > 0.0)) {
+        return None;
+    }
+    let u: Vec<f64> = excursions.iter().map(|e| 1.0 / (e * e)).collect();
+    let d: Vec<f64> = u.windows(2).map(|w| w[1] - w[0]).collect();
+    // equal increments (μ = 0) within rounding count as not shrinking
+    let growing = d.iter().all(|&x| x > 0.0) && d.windows(2).all(|w| w[1] >= w[0] * (1.0 - 1e-9));
+    let (first, last) = (excursions[0], excursions[n - 1]);
+    growing.then(|| {
+        format!(
+            "decaying slowly: the largest wheelset excursion fell from {first:.3e} m to \
+             {last:.3e} m over {n} runs, 1/amplitude^2 growing by increments that do not \
+             shrink (the normal form's decay to the centred motion, not an approach to a cycle)"
+        )
+    })
 }
 
 /// What a descent found: the motion at every speed where the attractor lives (highest
@@ -589,7 +628,13 @@ fn descend<const N: usize>(ctx: &Ctx<'_>, start: &Motion, grid: &[f64]) -> Desce
     }
     let alive = path.last().map_or(start.speed_m_s, |m| m.speed_m_s);
     let fate = match below.kind {
-        MotionKind::Equilibrium => "decays to the centred motion below".to_string(),
+        MotionKind::Equilibrium if below.note.is_empty() => {
+            "decays to the centred motion below".to_string()
+        }
+        MotionKind::Equilibrium => format!(
+            "decays to the centred motion below (at {lo:.4} m/s: {})",
+            below.note
+        ),
         k if k.is_hunting() => {
             let name = k.name();
             let article = if name.starts_with(['a', 'e', 'i', 'o', 'u']) {
@@ -1071,4 +1116,44 @@ fn search_states<const N: usize>(
         notes,
         simulations: ctx.simulations.load(std::sync::atomic::Ordering::Relaxed),
     })
+}
+
+#[cfg(test)]
+mod slow_decay_tests {
+    use super::slow_decay;
+
+    /// The normal form r' = μr − ar³ in closed form: u = 1/r² = u∞ + (u0 − u∞)e^{−2μt} with
+    /// u∞ = a/μ (u0 + 2at at μ = 0), sampled at the ends of equal runs.
+    fn normal_form(mu: f64, a: f64, r0: f64, runs: usize, length: f64) -> Vec<f64> {
+        let u0 = 1.0 / (r0 * r0);
+        (0..runs)
+            .map(|k| {
+                let t = (k as f64 + 1.0) * length;
+                let u = if mu == 0.0 {
+                    u0 + 2.0 * a * t
+                } else {
+                    a / mu + (u0 - a / mu) * (-2.0 * mu * t).exp()
+                };
+                1.0 / u.sqrt()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_normal_forms_decay_is_recognised_and_its_approach_to_a_cycle_is_not() {
+        let a = 1e5; // 1/(m² s)
+        for mu in [-0.05, -1e-3, 0.0] {
+            let e = normal_form(mu, a, 2e-3, 4, 30.0);
+            assert!(slow_decay(&e).is_some(), "mu {mu}: {e:?}");
+        }
+        // μ > 0: towards the cycle of r² = μ/a from above, falling all the way
+        for mu in [1e-3, 0.05] {
+            let e = normal_form(mu, a, 2e-3, 4, 30.0);
+            assert!(e.windows(2).all(|w| w[1] < w[0]), "{e:?}");
+            assert!(slow_decay(&e).is_none(), "mu {mu}: {e:?}");
+        }
+        // three runs are not enough, and a run that grows is no decay
+        assert!(slow_decay(&normal_form(-0.05, a, 2e-3, 3, 30.0)).is_none());
+        assert!(slow_decay(&[1e-3, 8e-4, 9e-4, 5e-4]).is_none());
+    }
 }
