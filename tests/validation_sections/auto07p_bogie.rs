@@ -384,7 +384,7 @@ pub fn section(s: &mut String) {
         dp = dp.max(rel(d.period, c.period));
         da = da.max(rel(d.amplitude_mm, c.amplitude_mm));
     }
-    let _ = writeln!(s, "\nAUTO's AUTO-to-AUTO differences (NTST {} to {}: {dp:.1e} in the period, {da:.1e} in max y1) bound its own error, and against critspeed it converges to the same cycles, Hopf point and folds.\n",
+    let _ = writeln!(s, "\nAUTO's AUTO-to-AUTO differences (NTST {} to {}: {dp:.1e} in the period, {da:.1e} in max y1) bound its own error, and against critspeed it converges to the same cycles, Hopf point and folds. `tests/auto07p_bogie.rs` checks the stored right-hand-side comparison, the Hopf point (1e-10), the folds at every NTST (5e-6, 3e-7, 3e-8, 1e-8 for NTST 40 … 320), AUTO's NTST-160-to-320 convergence, and the NTST-320 cycles against critspeed's at its default rtol: period 5e-9, max y1 3e-8, multiplier 1e-5.\n",
         NTSTS[NTSTS.len() - 2], NTSTS[NTSTS.len() - 1]);
     let _ = writeln!(s, "Model differences: none; the two codes evaluate the same functions (to {:.0e}). The comparison says nothing about the model's physics (section 6 and the study's header list what the DTU DYTSI model does differently).\n",
         rhs.iter().map(|r| r.1).fold(0.0, f64::max));
