@@ -79,7 +79,7 @@ fn cycles_agree_with_auto07p() {
     assert_eq!(fine.cycles.len(), 10);
     assert_eq!(coarse.cycles.len(), 10);
     for (c, d) in fine.cycles.iter().zip(&coarse.cycles) {
-        // AUTO converged in NTST: its NTST 160 and 320 differ by at most 3.4e-9 (period) and
+        // AUTO converged in NTST: its NTST 160 and 320 differ by at most 3.9e-9 (period) and
         // 9.1e-8 (max y, at 7 mm)
         assert!(rel(d.period, c.period) < 2e-8, "V {}", c.speed);
         assert!(rel(d.amplitude_mm, c.amplitude_mm) < 3e-7, "V {}", c.speed);
