@@ -308,3 +308,66 @@ fn the_cars_death_bracket_is_closed_by_a_decay_that_a_plain_simulation_confirms(
     assert!(above > 1e-3, "at {hi} m/s: {above} m after 150 s");
     eprintln!("after 150 s: {below:.3e} m at {lo} m/s, {above:.3e} m at {hi} m/s");
 }
+
+/// Seeds (motions another method knows, [`AttractorOptions::seeds`]) on the S1002/UIC60
+/// wheelset, whose subcritical branch folds at 40.795 m/s (the continuation's located fold):
+/// a stable continued cycle, seeded 5 % above the fold with no continuation given to the
+/// search, is confirmed as an attractor whose death bracket holds the continuation's fold;
+/// the same state seeded 10 % below the fold, where no cycle exists, is not confirmed (the
+/// motion decays).
+#[test]
+fn a_seeded_cycle_is_followed_down_to_the_continuations_fold_and_a_seed_below_it_decays() {
+    use critspeed::attractors::Seed;
+    let name = "s1002-uic60";
+    let plan = study(name);
+    let model = plan.model().expect("model");
+    let bo = plan.bifurcation_options();
+    let b = bifurcation::analyse(name, &model, &bo).expect("branch");
+    let (fold, located) = b.nonlinear_critical_speed.expect("V_NL");
+    assert!(located);
+    let above = 1.05 * fold;
+    let cycle = b
+        .cycles
+        .iter()
+        .filter(|c| c.stable)
+        .min_by(|a, b| {
+            (a.speed_m_s - above)
+                .abs()
+                .total_cmp(&(b.speed_m_s - above).abs())
+        })
+        .expect("a stable cycle");
+    let mut opts = AttractorOptions::new(
+        bo.speed_range,
+        b.hopf.map(|h| h.speed_m_s),
+        bo.geometry_limit,
+    )
+    .descents_only();
+    for speed in [cycle.speed_m_s, 0.9 * fold] {
+        opts.seeds.push(Seed {
+            speed_m_s: speed,
+            state: cycle.x0.clone(),
+            source: format!("the continued cycle at {:.3} m/s", cycle.speed_m_s),
+        });
+    }
+    let r = search(name, &model, &opts, None).expect("search");
+    assert_eq!(r.seed_checks.len(), 2);
+    let (hit, miss) = (&r.seed_checks[0], &r.seed_checks[1]);
+    assert!(hit.confirmed(), "{:?}", hit.motion);
+    let (lo, hi) = hit.dies_m_s.expect("a death bracket");
+    assert!(hi - lo <= opts.bracket + 1e-12, "{lo} {hi}");
+    // the true death speed lies in the bracket, the continuation's within its width
+    assert!(
+        fold > lo - opts.bracket && fold < hi + opts.bracket,
+        "fold {fold}, bracket [{lo}, {hi}]"
+    );
+    assert_eq!(hit.lowest_m_s, Some(hi));
+    assert!(!miss.confirmed());
+    assert_eq!(
+        miss.motion.kind,
+        MotionKind::Equilibrium,
+        "{:?}",
+        miss.motion
+    );
+    // the search's V_NL is the seeded attractor's
+    assert_eq!(r.nonlinear_critical_speed.map(|v| v.0), Some(hi));
+}

@@ -16,7 +16,7 @@
 pub mod classify;
 pub mod search;
 
-pub use search::{search, search_with_hooks, AttractorOptions, StartKind};
+pub use search::{search, search_with_hooks, AttractorOptions, Seed, StartKind};
 
 /// What a settled motion is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -172,6 +172,33 @@ impl Attractor {
     }
 }
 
+/// The verdict of the search on one seed ([`AttractorOptions::seeds`]): what its simulation
+/// settled on and, where it hunts, the attractor it is and where that attractor dies.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SeedCheck {
+    /// where the seed comes from, in words
+    pub source: String,
+    /// the speed it was simulated at (m/s)
+    pub speed_m_s: f64,
+    /// the motion it settled on
+    pub motion: Motion,
+    /// the attractor it is (its id), when it hunts
+    pub attractor: Option<usize>,
+    /// that attractor's lowest speed (m/s)
+    pub lowest_m_s: Option<f64>,
+    /// and the bracket of its death (m/s), when it dies in the range searched
+    pub dies_m_s: Option<(f64, f64)>,
+    /// whether that bracket is open below ([`Attractor::open_below`])
+    pub open_below: bool,
+}
+
+impl SeedCheck {
+    /// Whether the seed hunts: a hunting attractor lives at its speed.
+    pub fn confirmed(&self) -> bool {
+        self.attractor.is_some()
+    }
+}
+
 /// The share of the initial states at one speed that end on each outcome.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Outcome {
@@ -220,6 +247,8 @@ pub struct AttractorReport {
     /// V_NL(search): the lowest speed with a hunting attractor (m/s), the bracket of its death
     /// (m/s) and the attractor's id
     pub nonlinear_critical_speed: Option<SearchVnl>,
+    /// the verdict on each of [`AttractorOptions::seeds`], in their order
+    pub seed_checks: Vec<SeedCheck>,
     /// notes in words (motions that left the geometry's range, that did not settle)
     pub notes: Vec<String>,
     /// simulations run

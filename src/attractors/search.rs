@@ -14,7 +14,9 @@ use nalgebra::SVector;
 use rayon::prelude::*;
 
 use super::classify::{classify, Settle};
-use super::{Attractor, AttractorReport, BodyAmplitude, Motion, MotionKind, Outcome, SpeedRow};
+use super::{
+    Attractor, AttractorReport, BodyAmplitude, Motion, MotionKind, Outcome, SeedCheck, SpeedRow,
+};
 use crate::bifurcation::BifurcationReport;
 use crate::model::{BodyKind, Vehicle};
 
@@ -46,6 +48,21 @@ pub struct AttractorOptions {
     pub geometry_limit: Option<f64>,
     /// simulate the initial states of one speed on rayon threads (default true)
     pub parallel: bool,
+    /// motions known from elsewhere (a fold curve's cycle), each simulated at its speed and,
+    /// where it hunts, followed down like the continuation's lowest stable cycles; each gets
+    /// a verdict in [`AttractorReport::seed_checks`](super::AttractorReport::seed_checks)
+    pub seeds: Vec<Seed>,
+}
+
+/// An initial state known from another method, to be tested by simulation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Seed {
+    /// the speed to simulate at (m/s)
+    pub speed_m_s: f64,
+    /// the state (the model's order, SI)
+    pub state: Vec<f64>,
+    /// where it comes from, in words ("the cycle of fold curve 3 at 199.9 N s/mm")
+    pub source: String,
 }
 
 impl AttractorOptions {
@@ -71,6 +88,7 @@ impl AttractorOptions {
             max_period: 8,
             geometry_limit,
             parallel: true,
+            seeds: Vec::new(),
         }
     }
 
@@ -806,6 +824,27 @@ fn follow<const N: usize>(
     }
 }
 
+/// The verdict on seed `s`, whose simulation at its speed gave `m`: the attractor (after
+/// merging) whose path holds that motion, or what the motion was instead.
+fn seed_check(attractors: &[Attractor], s: &Seed, m: &Motion) -> SeedCheck {
+    let attractor = m.kind.is_hunting().then(|| {
+        attractors.iter().find(|a| {
+            a.path
+                .iter()
+                .any(|p| (p.speed_m_s - m.speed_m_s).abs() < 1e-9 && same(p, m, 0.01))
+        })
+    });
+    SeedCheck {
+        source: s.source.clone(),
+        speed_m_s: s.speed_m_s,
+        motion: m.clone(),
+        attractor: attractor.flatten().map(|a| a.id),
+        lowest_m_s: attractor.flatten().map(|a| a.lowest_m_s()),
+        dies_m_s: attractor.flatten().and_then(|a| a.dies_m_s),
+        open_below: attractor.flatten().is_some_and(|a| a.open_below),
+    }
+}
+
 /// Joins the attractors that are one: of the same kind, where one (found lower) lies on the
 /// other's descent (a motion of that path within 5 % of its speed has amplitudes within 5 %)
 /// and both die within two brackets of each other. A jump lands on an attractor that a grid
@@ -1064,10 +1103,17 @@ fn search_states<const N: usize>(
     // the continuation's lowest stable cycles, each checked by a descent of its own unless an
     // attractor already followed passes there
     let mut fresh = Vec::new();
-    let ends: Vec<(f64, Vec<f64>, String)> = stretch_ends(continued)
+    let mut ends: Vec<(f64, Vec<f64>, String)> = stretch_ends(continued)
         .into_iter()
         .filter(|e| e.0 >= opts.lowest)
         .collect();
+    // the seeds (motions other methods know) after them, each with a verdict of its own
+    let first_seed = ends.len();
+    ends.extend(
+        opts.seeds
+            .iter()
+            .map(|s| (s.speed_m_s, s.state.clone(), s.source.clone())),
+    );
     let checked: Vec<Motion> = if opts.parallel {
         ends.par_iter()
             .map(|e| ctx.classify::<N>(e.0, &e.1))
@@ -1075,7 +1121,15 @@ fn search_states<const N: usize>(
     } else {
         ends.iter().map(|e| ctx.classify::<N>(e.0, &e.1)).collect()
     };
-    for (m, e) in checked.iter().zip(&ends) {
+    for (k, (m, e)) in checked.iter().zip(&ends).enumerate() {
+        if k >= first_seed {
+            // a seed that hunts: followed as a motion of its own unless an attractor already
+            // followed passes its speed with its motion (then it is that attractor)
+            if m.kind.is_hunting() {
+                identify(&mut attractors, &mut fresh, m, continued);
+            }
+            continue;
+        }
         if !m.kind.is_hunting() {
             notes.push(format!(
                 "{} is not an attractor by simulation: {}{}",
@@ -1100,6 +1154,12 @@ fn search_states<const N: usize>(
     }
     follow::<N>(&ctx, &mut attractors, &fresh, &grid, continued);
     merge_duplicates(&mut attractors, &mut rows, opts.bracket);
+    let seed_checks: Vec<SeedCheck> = checked
+        .iter()
+        .skip(first_seed)
+        .zip(&opts.seeds)
+        .map(|(m, s)| seed_check(&attractors, s, m))
+        .collect();
     let vnl = attractors
         .iter()
         .filter(|a| a.kind.is_hunting())
@@ -1113,6 +1173,7 @@ fn search_states<const N: usize>(
         speeds: rows,
         attractors,
         nonlinear_critical_speed: vnl,
+        seed_checks,
         notes,
         simulations: ctx.simulations.load(std::sync::atomic::Ordering::Relaxed),
     })

@@ -173,6 +173,9 @@ pub struct FoldTrackPoint {
     /// on a torus curve, the angle θ (rad, in (0, π)) of the shooting map's multipliers
     /// e^{±iθ} on the unit circle
     pub angle_rad: Option<f64>,
+    /// the cycle's state at its section (t = 0), in the model's state order: where a
+    /// simulation or a search can start on the motion the curve follows
+    pub state: Vec<f64>,
 }
 
 /// Codimension-two points on a fold curve.
@@ -997,6 +1000,7 @@ impl<const N: usize> FoldSystem<'_, N> {
             located: true,
             on_grid,
             angle_rad: (self.kind == TrackKind::Torus).then(|| p.u[N + 3]),
+            state: p.u.rows(0, N).iter().copied().collect(),
         }
     }
 

@@ -17,6 +17,7 @@ use crate::study::Plan;
 use crate::sweep::{Compute, Spares, SweepStudy};
 use crate::trade::curve::{fold_grid, KeyAxis, OnCurves};
 use crate::trade::intervals::{self, PointAt};
+use crate::trade::settle::Settlement;
 use crate::trade::{curve_report, ResultKind, TradePlan};
 
 fn curve_failure(e: CurveError) -> Failure {
@@ -74,6 +75,35 @@ fn point_at(
     crate::sweep::point::compute(&s, 0, &Spares::default())
 }
 
+/// The settlement at key value `x` ([`crate::trade::settle`]); a study or model that cannot be
+/// built there becomes a settlement that says so (V_NL the one-point computation's).
+fn settle_at(
+    keyed: &KeyedStudy,
+    on: &OnCurves,
+    x: f64,
+    curves_m_s: f64,
+    one_point: Option<f64>,
+) -> Settlement {
+    let cycles = on.fold_cycles(x);
+    let run = keyed
+        .plan_at(x)
+        .map_err(|e| e.to_string())
+        .and_then(|plan| {
+            let model = keyed.model_at(x).map_err(|e| e.to_string())?;
+            crate::trade::settle::settle(&plan, &model, &cycles, curves_m_s, one_point)
+        });
+    run.unwrap_or_else(|e| Settlement {
+        one_point_m_s: one_point,
+        curves_m_s,
+        checks: Vec::new(),
+        nonlinear_m_s: one_point,
+        confirmed: false,
+        words: format!("not settled: {e}"),
+        simulations: 0,
+        bodies: Vec::new(),
+    })
+}
+
 /// The curves of the trade.
 fn curves(
     path: &Path,
@@ -110,7 +140,7 @@ pub(super) fn run(
     let study = SweepStudy::load(&a.study).map_err(crate::api::sweep_failure)?;
     let axis = crate::trade::curve::key_axis(&study.spec, tp).map_err(user)?;
     let t0 = Instant::now();
-    let (_keyed, report, vnl_grid) = curves(&a.study, file, &axis, tp)?;
+    let (keyed, report, vnl_grid) = curves(&a.study, file, &axis, tp)?;
     statusln!(
         "curves over {}: {} curves in {:.2} s",
         axis.key,
@@ -125,12 +155,28 @@ pub(super) fn run(
     };
     let linear = |x: f64| point_at(&study, tp, x, false);
     let whole = |x: f64| point_at(&study, tp, x, true);
+    let settle = |x: f64, curves_m_s: f64, one_point: Option<f64>| {
+        statusln!(
+            "  settling V_NL at {} = {x:e}: {curves_m_s:.3} m/s on the curves, {} by the one-point computation; simulating from the fold curves' cycles",
+            axis.key,
+            one_point.map_or("none".into(), |v| format!("{v:.3} m/s"))
+        );
+        let t = Instant::now();
+        let s = settle_at(&keyed, &on, x, curves_m_s, one_point);
+        statusln!(
+            "  settled in {:.2} s: {}",
+            t.elapsed().as_secs_f64(),
+            s.words
+        );
+        s
+    };
     let t1 = Instant::now();
     let trade = intervals::run(
         &on,
         &PointAt {
             linear: &linear,
             whole: &whole,
+            settle: &settle,
         },
     );
     statusln!(

@@ -584,6 +584,7 @@ fn curve(t: &FoldTrack, law: crate::contact::creep::CreepLaw, first: f64) -> Cur
             // (a flip's other multipliers say nothing of a cycle ending there)
             stable_cycle: (t.kind == TrackKind::Fold).then_some(p.stable_side),
             torus_angle_rad: p.angle_rad,
+            cycle_state: p.state.clone(),
         })
         .collect();
     let end = |stop: &TrackStop| match stop {

@@ -119,7 +119,23 @@ impl SpecialKind {
         }
     }
 
-    /// The label on the plot: `GH`, `HH`, `ZH`, `BT` (the field's abbreviations).
+    /// What a reader of a design report calls it, with the field's abbreviation: legends
+    /// and summary lines use these words.
+    pub fn words(self) -> &'static str {
+        match self {
+            SpecialKind::Bautin => "generalised Hopf (GH)",
+            SpecialKind::DoubleHopf => "double Hopf (HH)",
+            SpecialKind::ZeroHopf => "zero-Hopf (ZH)",
+            SpecialKind::BogdanovTakens => "Bogdanov–Takens (BT)",
+            SpecialKind::Cusp => "cusp of folds (CPC)",
+            SpecialKind::FoldFlip => "fold–flip (LPPD)",
+            SpecialKind::FoldSymmetryBreaking => "fold–symmetry breaking (LPSB)",
+            SpecialKind::FoldTorus => "fold–torus (LPNS)",
+        }
+    }
+
+    /// The field's abbreviation: `GH`, `HH`, `ZH`, `BT`, `CPC`, `LPPD`, `LPSB`, `LPNS`
+    /// (`curve.json`'s `label`).
     pub fn label(self) -> &'static str {
         match self {
             SpecialKind::Bautin => "GH",
@@ -240,6 +256,10 @@ pub struct CurvePoint {
     /// on a torus curve: the angle θ (rad) of the shooting map's multipliers e^{±iθ} on the
     /// unit circle (the torus's rotation number is θ/2π); `None` elsewhere
     pub torus_angle_rad: Option<f64>,
+    /// on a fold, flip or torus curve: the cycle's state at its section (the model's state
+    /// order, SI), where a simulation or the attractor search can start on the curve's motion;
+    /// empty on Hopf curves
+    pub cycle_state: Vec<f64>,
 }
 
 /// One continued curve.

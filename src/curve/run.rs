@@ -354,6 +354,7 @@ fn point<const N: usize, F: HopfFamily<N>>(family: &F, p: &TracedPoint<N>) -> Cu
         stable_side,
         stable_cycle: None,
         torus_angle_rad: None,
+        cycle_state: Vec::new(),
     }
 }
 

@@ -56,8 +56,23 @@ pub fn trade_curve(study: &str, plan: &TradePlan, axis: &KeyAxis, t: &CurveTrade
     let pad = if hi > lo { 0.08 * (hi - lo) } else { 1.0 };
     let (y0, y1) = (lo - pad, hi + pad);
     fig.y_range = Some((y0, y1));
+    // where the settlement moved the best design, the stretch it left is not shaded feasible
+    let settled_best = t
+        .verification
+        .as_ref()
+        .and_then(|v| v.settled.as_ref())
+        .map(|se| se.x);
     for (k, i) in t.intervals.iter().enumerate() {
-        let (a, b) = (i.from.x * f, i.to.x * f);
+        let (mut a, mut b) = (i.from.x * f, i.to.x * f);
+        if let (Some(best), Some(moved)) = (&t.best, settled_best) {
+            if best.interval == k {
+                match (plan.objective.sense, moved) {
+                    (_, None) => continue,
+                    (crate::trade::Sense::Minimize, Some(x)) => a = x * f,
+                    (crate::trade::Sense::Maximize, Some(x)) => b = x * f,
+                }
+            }
+        }
         fig.series.push(Series {
             name: if k == 0 {
                 "feasible".into()
@@ -90,6 +105,29 @@ pub fn trade_curve(study: &str, plan: &TradePlan, axis: &KeyAxis, t: &CurveTrade
                     }
                 ),
                 points: pts,
+                style: Style::Points,
+            });
+        }
+        // the settled V_NL (a fold cycle's attractor simulated) at the verification's value and,
+        // where the best design moved, at the settled best
+        let mut settled: Vec<(f64, f64)> = Vec::new();
+        if let Some(y) = v.settlement.as_ref().and_then(|s| s.nonlinear_m_s) {
+            settled.push((v.x * f, y));
+        }
+        if let Some(se) = &v.settled {
+            if let (Some(x), Some(y)) = (se.x, se.settlement.as_ref().and_then(|s| s.nonlinear_m_s))
+            {
+                settled.push((x * f, y));
+                fig.vlines.push(Marker {
+                    at: x * f,
+                    label: format!("settled best {}", crate::trade::plan::fmt_si(x * f)),
+                });
+            }
+        }
+        if !settled.is_empty() {
+            fig.series.push(Series {
+                name: "V_NL settled by simulating the fold cycles".into(),
+                points: settled,
                 style: Style::Points,
             });
         }

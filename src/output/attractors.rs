@@ -32,6 +32,24 @@ fn motion_json(m: &Motion, bodies: &[String]) -> Value {
     })
 }
 
+/// A seed's verdict: where it came from, the motion its simulation settled on (with a state
+/// on it, the model's state order, SI), and the attractor it is (with where that attractor
+/// dies) when it hunts.
+pub fn seed_check_json(c: &crate::attractors::SeedCheck, bodies: &[String]) -> Value {
+    json!({
+        "source": c.source,
+        "speed_m_s": c.speed_m_s,
+        "confirmed": c.confirmed(),
+        "motion": motion_json(&c.motion, bodies),
+        "note": c.motion.note,
+        "state": c.motion.state,
+        "attractor": c.attractor,
+        "lowest_m_s": c.lowest_m_s,
+        "dies_bracket_m_s": c.dies_m_s.map(|d| [d.0, d.1]),
+        "dies_bracket_open": c.open_below,
+    })
+}
+
 /// `attractors.json`: the one V_NL (with `b`, the continuation that ran before the search),
 /// the search's own V_NL and bracket, every attractor with its speed range and amplitudes, and
 /// the basin fractions at each speed of the grid.
@@ -99,6 +117,7 @@ pub fn attractors_json(r: &AttractorReport, b: &BifurcationReport) -> Value {
             "max_period": o.max_period,
             "geometry_limit_m": o.geometry_limit,
         },
+        "seed_checks": r.seed_checks.iter().map(|c| seed_check_json(c, &r.body_names)).collect::<Vec<_>>(),
         "notes": r.notes,
         "disagreement": b.notes.iter().filter(|n| n.starts_with("the continuation and the attractor search")).collect::<Vec<_>>(),
         "simulations": r.simulations,

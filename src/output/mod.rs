@@ -15,7 +15,7 @@ use serde_json::{json, Value};
 use crate::analysis::{GeometryReport, LinearReport};
 use crate::stability::{CriticalSpeeds, Crossing, Spectrum};
 
-pub use attractors::{attractors_csv, attractors_json, ATTRACTOR_KIND};
+pub use attractors::{attractors_csv, attractors_json, seed_check_json, ATTRACTOR_KIND};
 pub use curve::{curve_csv, curve_json, curve_key_column, CURVE_KIND};
 pub use plan::plan_json;
 

@@ -259,6 +259,45 @@ impl OnCurves<'_> {
         })
     }
 
+    /// The cycles of the fold curves at `x`: every fold curve with a stable-side stretch
+    /// spanning `x`, its fold's speed there (linear in the key's axis between its adjacent
+    /// points) and the nearer point's cycle state, lowest speed first.
+    pub fn fold_cycles(&self, x: f64) -> Vec<super::settle::FoldCycle> {
+        let p = self.axis.p(x);
+        let mut out: Vec<super::settle::FoldCycle> = Vec::new();
+        for (i, c) in self.report.curves.iter().enumerate() {
+            if c.kind != CurveKind::Fold {
+                continue;
+            }
+            let best = c
+                .points
+                .windows(2)
+                .filter(|w| w[0].stable_cycle == Some(true) && w[1].stable_cycle == Some(true))
+                .filter_map(|w| {
+                    let (a, b) = (self.axis.p(w[0].parameter), self.axis.p(w[1].parameter));
+                    if !(a.min(b) <= p && p <= a.max(b)) {
+                        return None;
+                    }
+                    let t = if a != b { (p - a) / (b - a) } else { 0.0 };
+                    let near = if t < 0.5 { &w[0] } else { &w[1] };
+                    let v = w[0].speed_m_s + t * (w[1].speed_m_s - w[0].speed_m_s);
+                    (!near.cycle_state.is_empty()).then_some((v, near))
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            if let Some((v, near)) = best {
+                out.push(super::settle::FoldCycle {
+                    curve: i,
+                    label: c.label.to_string(),
+                    fold_m_s: v,
+                    parameter: near.parameter,
+                    state: near.cycle_state.clone(),
+                });
+            }
+        }
+        out.sort_by(|a, b| a.fold_m_s.total_cmp(&b.fold_m_s));
+        out
+    }
+
     /// The lowest V_NL candidate of curve `i` at `x`: on a fold curve, its segments between
     /// two stable-side folds; on a V_H curve, its segments between two supercritical onsets.
     fn on_curve(&self, i: usize, x: f64) -> Option<f64> {

@@ -121,7 +121,11 @@ pub fn summary(
             if let (Some(c), Some(p)) = (v.computed.result(r), v.predicted.result(r)) {
                 if (c - p).abs() > 1e-3 * p.abs() {
                     let why = if r == ResultKind::NonlinearCriticalSpeed && c > p {
-                        ": the curves follow a fold of cycles that the whole diagram's branches do not reach, and V_NL is the lower of the two"
+                        if v.settlement.is_some() {
+                            ": settled by simulation below"
+                        } else {
+                            ": not settled"
+                        }
                     } else {
                         ""
                     };
@@ -136,12 +140,47 @@ pub fn summary(
                 }
             }
         }
+        if let Some(st) = &v.settlement {
+            let _ = writeln!(
+                s,
+                "  settled by simulation ({} simulations): {}",
+                st.simulations, st.words
+            );
+        }
         if v.feasible {
             let _ = writeln!(
                 s,
                 "  agrees: the computed design meets every constraint (smallest margin {:+.3} %)",
                 100.0 * v.margin
             );
+        } else if let Some(se) = &v.settled {
+            let _ = writeln!(
+                s,
+                "  the curves' best design does not meet the constraints once settled: {}",
+                v.reason
+            );
+            match se.x {
+                Some(x) => {
+                    let _ = writeln!(
+                        s,
+                        "best (settled by simulation): {key} = {}; {}",
+                        key_text(plan, x),
+                        se.how
+                    );
+                    if let Some(st) = &se.settlement {
+                        let _ = writeln!(
+                            s,
+                            "  there ({} simulations, smallest margin {:+.3} %): {}",
+                            st.simulations,
+                            100.0 * se.margin,
+                            st.words
+                        );
+                    }
+                }
+                None => {
+                    let _ = writeln!(s, "best (settled by simulation): none; {}", se.how);
+                }
+            }
         } else {
             let _ = writeln!(
                 s,
@@ -154,6 +193,28 @@ pub fn summary(
         let _ = writeln!(s, "curve note: {n}");
     }
     s
+}
+
+/// A settlement ([`crate::trade::settle`]) as JSON: both methods' V_NL, the one after
+/// settling, the verdict, and each fold cycle's simulations.
+fn settlement_json(st: &crate::trade::settle::Settlement) -> Value {
+    json!({
+        "one_point_m_s": st.one_point_m_s,
+        "curves_m_s": st.curves_m_s,
+        "nonlinear_critical_speed_m_s": st.nonlinear_m_s,
+        "confirmed": st.confirmed,
+        "verdict": st.words,
+        "simulations": st.simulations,
+        "checks": st.checks.iter().map(|c| json!({
+            "curve": c.curve,
+            "label": c.label,
+            "fold_m_s": c.fold_m_s,
+            "lowest_m_s": c.lowest_m_s(),
+            "simulations": c.seeds.iter()
+                .map(|x| crate::output::seed_check_json(x, &st.bodies))
+                .collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
+    })
 }
 
 fn end_json(e: &End) -> Value {
@@ -200,7 +261,12 @@ pub fn json(
                 "computed_status": v.computed.status,
                 "stable_up_to_m_s": v.computed.stable_up_to_m_s,
                 "feasible": v.feasible, "agrees": v.feasible, "reason": v.reason,
-                "margin": v.margin.is_finite().then_some(v.margin) })
+                "margin": v.margin.is_finite().then_some(v.margin),
+                "settlement": v.settlement.as_ref().map(settlement_json),
+                "settled_best": v.settled.as_ref().map(|se| json!({
+                    "objective_si": se.x, "unit": unit, "margin": se.margin.is_finite().then_some(se.margin),
+                    "evaluations": se.evaluations, "how": se.how,
+                    "settlement": se.settlement.as_ref().map(settlement_json) })) })
     });
     json!({
         "study": study,

@@ -44,6 +44,10 @@ pub struct Best {
     pub predicted: Row,
 }
 
+/// The verification's relative difference between the curves' V_NL and the one-point
+/// computation's above which the disagreement is settled by simulation.
+pub const DIFFER: f64 = 1e-3;
+
 /// The best design recomputed by the one-point computation of a sweep.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Verification {
@@ -61,6 +65,12 @@ pub struct Verification {
     pub reason: String,
     /// the computed results' smallest relative constraint margin
     pub margin: f64,
+    /// where the curves' V_NL is lower than the one-point computation's: the fold cycles
+    /// simulated ([`super::settle`]); feasibility and margin use its V_NL
+    pub settlement: Option<super::settle::Settlement>,
+    /// where that settled V_NL is below its bound: the best design moved inward to where the
+    /// settled V_NL meets it
+    pub settled: Option<SettledEnd>,
 }
 
 /// Everything a curve trade gives.
@@ -84,6 +94,9 @@ pub struct PointAt<'a> {
     pub linear: &'a dyn Fn(f64) -> PointRecord,
     /// every result read, V_NL by the whole diagram
     pub whole: &'a dyn Fn(f64) -> PointRecord,
+    /// the settlement at a key value, given the curves' V_NL and the one-point computation's
+    /// ([`super::settle::settle`] on the curves' fold cycles there)
+    pub settle: &'a dyn Fn(f64, f64, Option<f64>) -> super::settle::Settlement,
 }
 
 fn describe_binding(on: &OnCurves, row: &Row, x: f64) -> String {
@@ -323,15 +336,179 @@ fn verify(on: &OnCurves, points: &PointAt, interval: &Interval, b: &Best) -> Ver
         )
     };
     let computed = row_of(&ax.key, x, &(points.whole)(x));
-    let reason = infeasibility(on.plan, &computed);
+    let predicted = on.sample(x).row;
+    // the curves lower than the one-point computation (beyond the summary's 1e-3): the
+    // disagreement is settled by simulating the curves' fold cycles
+    let vnl = ResultKind::NonlinearCriticalSpeed;
+    let one_point = computed.result(vnl);
+    let settlement = match predicted.result(vnl) {
+        Some(p)
+            if on.plan.read_results().contains(&vnl)
+                && one_point.is_none_or(|c| c > p * (1.0 + DIFFER)) =>
+        {
+            Some((points.settle)(x, p, one_point))
+        }
+        _ => None,
+    };
+    let mut judged = computed.clone();
+    if let (Some(v), Some(i)) = (
+        settlement.as_ref().and_then(|s| s.nonlinear_m_s),
+        ResultKind::ALL.iter().position(|k| *k == vnl),
+    ) {
+        judged.results[i] = Some(v);
+    }
+    let reason = infeasibility(on.plan, &judged);
+    let feasible = reason.is_none();
+    // a settled V_NL below the bound: the interval's end moves inward to where the settled
+    // V_NL meets it
+    let settled = match &settlement {
+        Some(st)
+            if !feasible
+                && st
+                    .nonlinear_m_s
+                    .is_some_and(|v| one_point.is_none_or(|o| v < o)) =>
+        {
+            Some(settled_end(
+                on,
+                points,
+                interval,
+                x,
+                &computed,
+                one_point,
+                margin(on.plan, &judged),
+            ))
+        }
+        _ => None,
+    };
     Verification {
         x,
         nudge,
-        predicted: on.sample(x).row,
-        margin: margin(on.plan, &computed),
-        feasible: reason.is_none(),
+        predicted,
+        margin: margin(on.plan, &judged),
+        feasible,
         reason: reason.unwrap_or_default(),
         computed,
+        settlement,
+        settled,
+    }
+}
+
+/// The best design moved to where the settled V_NL meets its bound.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SettledEnd {
+    /// the key value (SI), on the feasible side; `None` when the settled V_NL stays below
+    /// its bound across the interval
+    pub x: Option<f64>,
+    /// the settlement there
+    pub settlement: Option<super::settle::Settlement>,
+    /// that design's smallest relative constraint margin
+    pub margin: f64,
+    /// settlements computed
+    pub evaluations: usize,
+    /// how it was found, in words
+    pub how: String,
+}
+
+/// Relative to the key axis' span: the first step inward from an infeasible verification, and
+/// the width to which the settled end is located.
+pub const SETTLED_STEP: f64 = 5e-3;
+/// See [`SETTLED_STEP`].
+pub const SETTLED_TOL: f64 = 5e-4;
+
+/// Where the settled V_NL (the curves' fold cycles simulated at each key value, against the
+/// one-point computation's V_NL at `x0`, which is taken to hold nearby) meets the bound,
+/// inward from the infeasible `x0`: steps of [`SETTLED_STEP`] of the axis span, doubling, to a
+/// feasible value (at most to the interval's other end), then the Illinois method to
+/// [`SETTLED_TOL`] of the span.
+fn settled_end(
+    on: &OnCurves,
+    points: &PointAt,
+    interval: &Interval,
+    x0: f64,
+    computed: &Row,
+    one_point: Option<f64>,
+    m0: f64,
+) -> SettledEnd {
+    let ax = on.axis;
+    let vnl = ResultKind::NonlinearCriticalSpeed;
+    let index = ResultKind::ALL.iter().position(|k| *k == vnl);
+    let inward = match on.plan.objective.sense {
+        Sense::Minimize => 1.0,
+        Sense::Maximize => -1.0,
+    };
+    let far = match on.plan.objective.sense {
+        Sense::Minimize => interval.to.x,
+        Sense::Maximize => interval.from.x,
+    };
+    let (p0, p_far) = (ax.p(x0), ax.p(far));
+    let done = std::cell::RefCell::new(Vec::<(f64, super::settle::Settlement, f64)>::new());
+    let f = |p: f64| {
+        let x = ax.x(p);
+        let curves = on
+            .sample(x)
+            .row
+            .result(vnl)
+            .or(one_point)
+            .unwrap_or(f64::NAN);
+        let st = (points.settle)(x, curves, one_point);
+        let mut row = computed.clone();
+        row.axes = vec![(ax.key.clone(), x)];
+        if let (Some(i), Some(v)) = (index, st.nonlinear_m_s) {
+            row.results[i] = Some(v);
+        }
+        let m = margin(on.plan, &row);
+        done.borrow_mut().push((p, st, m));
+        m
+    };
+    let mut step = SETTLED_STEP * ax.span_p();
+    let mut bad = (p0, m0);
+    let mut good = None;
+    loop {
+        let p = (p0 + inward * step).clamp(p0.min(p_far), p0.max(p_far));
+        let m = f(p);
+        if m >= 0.0 {
+            good = Some((p, m));
+            break;
+        }
+        bad = (p, m);
+        if p == p_far {
+            break;
+        }
+        step *= 2.0;
+    }
+    let Some(good) = good else {
+        let n = done.borrow().len();
+        return SettledEnd {
+            x: None,
+            settlement: done.borrow_mut().pop().map(|d| d.1),
+            margin: bad.1,
+            evaluations: n,
+            how: format!(
+                "the settled V_NL stays below its bound from {x0:e} to the interval's other end {far:e}: no design of this interval is confirmed feasible"
+            ),
+        };
+    };
+    let (p, _) = locate(&f, good, bad, SETTLED_TOL * ax.span_p());
+    let list = done.into_inner();
+    let n = list.len();
+    let (settlement, m) = list
+        .into_iter()
+        .rev()
+        .find(|d| d.0 == p)
+        .map(|d| (Some(d.1), d.2))
+        .unwrap_or((None, f64::NAN));
+    SettledEnd {
+        x: Some(ax.x(p)),
+        settlement,
+        margin: m,
+        evaluations: n,
+        how: format!(
+            "the settled V_NL meets its bound between {:e} and {:e} ({} settlements: steps inward from the verification's value, then the Illinois method to {SETTLED_TOL} of the {} axis span); the feasible side is given",
+            ax.x(p),
+            ax.x(bad.0),
+            n,
+            if ax.log { "ln-key" } else { "key" }
+        ),
     }
 }
 

@@ -35,6 +35,7 @@ pub mod margin;
 pub mod plan;
 pub mod report;
 pub mod select;
+pub mod settle;
 pub mod table;
 
 use crate::study::units::Dimension;
