@@ -106,9 +106,8 @@ pub fn summary(r: &CurveReport) -> String {
     for p in &r.special_points {
         let _ = writeln!(
             s,
-            "  {} ({}) on curve {}{}: {} = {:.6e}{unit}, V = {:.4} m/s, {:.4} Hz{} ({})",
-            p.kind.label(),
-            p.kind.name(),
+            "  {} on curve {}{}: {} = {:.6e}{unit}, V = {:.4} m/s, {:.4} Hz{} ({})",
+            p.kind.words(),
             p.curve,
             p.other_curve.map_or(String::new(), |o| format!(" and {o}")),
             r.key,

@@ -5,30 +5,98 @@ use crate::curve::{CurveKind, CurveReport, SpecialKind};
 use crate::plot::{Series, Style};
 use crate::stability::HopfKind;
 
-/// The stable region's polygons: one per run of key values where the centred motion is stable
-/// at the bottom of the speed range, closed along that bottom.
-fn shades(top: &[(f64, f64)], bottom: f64) -> Vec<Vec<(f64, f64)>> {
-    let mut out = Vec::new();
-    let mut run: Vec<(f64, f64)> = Vec::new();
-    let close = |run: &mut Vec<(f64, f64)>, out: &mut Vec<Vec<(f64, f64)>>| {
+/// V_NL as the pictures read it between its points: at a key value between two adjacent
+/// known V_NL points (no value where it is unknown between them) the lower of the two, at a
+/// point its own value; `None` outside them. The lower of the two, since between its points
+/// V_NL can dip below a straight line (near a cusp of folds it bends: docs/curves.md), so the
+/// region drawn below it never takes in a speed where a neighbouring point says it hunts.
+fn vnl_floor(known: &[(f64, f64)], unknown: &[f64], k: f64) -> Option<f64> {
+    if let Some(&(_, v)) = known.iter().find(|p| p.0 == k) {
+        return Some(v);
+    }
+    known.windows(2).find_map(|w| {
+        let (a, b) = (w[0].0.min(w[1].0), w[0].0.max(w[1].0));
+        let gap = unknown.iter().any(|&u| a < u && u < b);
+        (a < k && k < b && !gap).then(|| w[0].1.min(w[1].1))
+    })
+}
+
+/// The three regions of a stable band `top` (key, V_H or V_L there): below V_NL "no hunting",
+/// from V_NL (or the bottom, where V_NL is unknown) to the top "centred running stable, hunting
+/// after a large enough disturbance", above the top "unstable"; polygons of each, runs split
+/// where the band is undefined (NaN).
+type Polygons = Vec<Vec<(f64, f64)>>;
+fn regions(r: &CurveReport, top: &[(f64, f64)]) -> (Polygons, Polygons, Polygons) {
+    let (bottom, ceiling) = r.speed_range;
+    let mut known: Vec<(f64, f64)> = r.nonlinear_critical_speed.clone();
+    known.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // the band's keys and the V_NL points' keys, in order
+    let mut keys: Vec<f64> = top.iter().map(|t| t.0).collect();
+    keys.extend(known.iter().map(|k| k.0));
+    keys.sort_by(f64::total_cmp);
+    keys.dedup();
+    let top_at = |k: f64| -> f64 {
+        // the band's top at k: linear between its samples, NaN where either is NaN
+        if let Some(&(_, v)) = top.iter().find(|t| t.0 == k) {
+            return v;
+        }
+        top.windows(2)
+            .find(|w| w[0].0.min(w[1].0) < k && k < w[0].0.max(w[1].0))
+            .map_or(f64::NAN, |w| {
+                let t = (k - w[0].0) / (w[1].0 - w[0].0);
+                w[0].1 + t * (w[1].1 - w[0].1)
+            })
+    };
+    let mut none: Polygons = Vec::new();
+    let mut middle: Polygons = Vec::new();
+    let mut above: Polygons = Vec::new();
+    // (key, floor, top) runs where the band is defined
+    let mut run: Vec<(f64, f64, f64)> = Vec::new();
+    let flush = |run: &mut Vec<(f64, f64, f64)>,
+                 none: &mut Polygons,
+                 middle: &mut Polygons,
+                 above: &mut Polygons| {
         if run.len() > 1 {
-            let (first, last) = (run[0].0, run[run.len() - 1].0);
-            let mut poly = vec![(first, bottom)];
-            poly.append(run);
-            poly.push((last, bottom));
-            out.push(poly);
+            let mut mid: Vec<(f64, f64)> = run.iter().map(|q| (q.0, q.2)).collect();
+            mid.extend(run.iter().rev().map(|q| (q.0, q.1)));
+            middle.push(mid);
+            let mut up: Vec<(f64, f64)> = run.iter().map(|q| (q.0, ceiling)).collect();
+            up.extend(run.iter().rev().map(|q| (q.0, q.2)));
+            above.push(up);
+            // "no hunting" only over the stretches where the floor is above the bottom
+            let mut low: Vec<(f64, f64, f64)> = Vec::new();
+            for &q in run.iter() {
+                if q.1 > bottom {
+                    low.push(q);
+                } else if low.len() > 1 {
+                    let mut poly: Vec<(f64, f64)> = low.iter().map(|q| (q.0, q.1)).collect();
+                    poly.extend(low.iter().rev().map(|q| (q.0, bottom)));
+                    none.push(std::mem::take(&mut poly));
+                    low.clear();
+                } else {
+                    low.clear();
+                }
+            }
+            if low.len() > 1 {
+                let mut poly: Vec<(f64, f64)> = low.iter().map(|q| (q.0, q.1)).collect();
+                poly.extend(low.iter().rev().map(|q| (q.0, bottom)));
+                none.push(poly);
+            }
         }
         run.clear();
     };
-    for &(p, v) in top {
-        if v.is_finite() {
-            run.push((p, v));
-        } else {
-            close(&mut run, &mut out);
+    for k in keys {
+        let t = top_at(k);
+        if !t.is_finite() {
+            flush(&mut run, &mut none, &mut middle, &mut above);
+            continue;
         }
+        let floor =
+            vnl_floor(&known, &r.nonlinear_unknown, k).map_or(bottom, |v| v.clamp(bottom, t));
+        run.push((k, floor, t));
     }
-    close(&mut run, &mut out);
-    out
+    flush(&mut run, &mut none, &mut middle, &mut above);
+    (none, middle, above)
 }
 
 fn number(v: f64) -> String {
@@ -61,21 +129,46 @@ pub fn curve(r: &CurveReport) -> Rendered {
     // uses Kalker); V_L is drawn as the line it is
     let shaded = r.stable_regions.last().map(|s| s.label);
     for region in &r.stable_regions {
-        let polys = if Some(region.label) == shaded {
-            shades(&region.top, r.speed_range.0)
-        } else {
-            Vec::new()
-        };
-        for (k, poly) in polys.into_iter().enumerate() {
-            fig.series.push(Series {
-                name: if k == 0 {
-                    format!("stable ({} model)", region.creep_law.name())
-                } else {
-                    String::new()
-                },
-                points: poly,
-                style: Style::Shade,
-            });
+        if Some(region.label) == shaded {
+            // below V_NL no hunting; up to the band's top the centred motion is stable but a
+            // large enough disturbance can start hunting; above it the centred motion is
+            // unstable. Where V_NL is unknown the middle region reaches down to the bottom.
+            let (none, middle, above) = regions(r, &region.top);
+            let law = region.creep_law.name();
+            // short words: the legend must leave the plot its width (docs/curves.md has them
+            // in full)
+            let unknown = if r.nonlinear_critical_speed.is_empty() {
+                " (V_NL not computed)"
+            } else if !r.nonlinear_unknown.is_empty() {
+                " (V_NL unknown in part)"
+            } else {
+                ""
+            };
+            for (polys, name, style) in [
+                (
+                    none,
+                    "no hunting (below V_NL)".to_string(),
+                    Style::ShadeRgb(0x2c, 0xa0, 0x2c),
+                ),
+                (
+                    middle,
+                    format!("stable, hunts if disturbed{unknown}"),
+                    Style::ShadeRgb(0xff, 0xb0, 0x00),
+                ),
+                (
+                    above,
+                    format!("unstable (above {}, {law})", region.label),
+                    Style::ShadeRgb(0xd6, 0x27, 0x28),
+                ),
+            ] {
+                for (k, poly) in polys.into_iter().enumerate() {
+                    fig.series.push(Series {
+                        name: if k == 0 { name.clone() } else { String::new() },
+                        points: poly,
+                        style: style.clone(),
+                    });
+                }
+            }
         }
         let mut points: Vec<(f64, f64)> = Vec::new();
         for c in r.curves.iter().filter(|c| c.label == region.label) {
@@ -190,10 +283,30 @@ pub fn curve(r: &CurveReport) -> Rendered {
             names.join(", ")
         };
         fig.series.push(Series {
-            name: format!("{}: {listed}", kind.label()),
+            name: format!("{}: {listed}", kind.words()),
             points: here.iter().map(|s| (s.parameter, s.speed_m_s)).collect(),
             style: Style::Points,
         });
     }
     render("curve.svg", &fig, 1000, 640)
+}
+
+#[cfg(test)]
+mod region_tests {
+    use super::vnl_floor;
+
+    /// The "no hunting" region's top between V_NL points is the lower neighbour, a point's own
+    /// value at the point, nothing outside the points or across a value where V_NL is unknown:
+    /// it never reaches above a speed where a neighbouring point says a hunting motion exists.
+    #[test]
+    fn the_no_hunting_region_never_rises_above_a_neighbouring_vnl() {
+        let known = [(0.0, 50.0), (1.0, 60.0), (2.0, 40.0)];
+        assert_eq!(vnl_floor(&known, &[], 0.5), Some(50.0));
+        assert_eq!(vnl_floor(&known, &[], 1.0), Some(60.0));
+        assert_eq!(vnl_floor(&known, &[], 1.5), Some(40.0));
+        assert_eq!(vnl_floor(&known, &[], 2.5), None);
+        assert_eq!(vnl_floor(&known, &[], -0.1), None);
+        assert_eq!(vnl_floor(&known, &[1.5], 1.7), None);
+        assert_eq!(vnl_floor(&known, &[1.5], 0.7), Some(50.0));
+    }
 }

@@ -102,6 +102,10 @@ pub enum Style {
     /// series gets (so a region and the curve that bounds it match); vertices outside the
     /// plotted range are moved onto its edge.
     Shade,
+    /// A closed polygon like [`Style::Shade`], filled with a light tint of the colour
+    /// (red, green, blue) given: regions whose colour says what they are (no hunting,
+    /// hunting after a disturbance, unstable) rather than which curve bounds them.
+    ShadeRgb(u8, u8, u8),
     /// Filled circles coloured by a value on a viridis-like scale, with a
     /// colour bar showing `label` and the value range. Series sharing the
     /// same `label` share one scale and one colour bar.

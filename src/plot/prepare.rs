@@ -221,8 +221,11 @@ pub(crate) fn prepare(fig: &Figure) -> Result<Prepared, PlotError> {
                 };
                 item.points = visible.map(|(_, p)| (p, item.colour)).collect();
             }
-            Style::Shade => {
+            Style::Shade | Style::ShadeRgb(..) => {
                 item.mark = Mark::Shade;
+                if let Style::ShadeRgb(r, g, b) = s.style {
+                    item.colour = RGBColor(r, g, b);
+                }
                 let clamp =
                     |(x, y): (f64, f64)| (x.clamp(rect.x0, rect.x1), y.clamp(rect.y0, rect.y1));
                 item.runs = vec![s
