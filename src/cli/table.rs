@@ -317,12 +317,22 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> String {
             b.stop_reason
         );
         for p in r.special.iter().filter(|p| p.branch == b.id) {
+            // the amplitude the diagram plots: the largest wheelset's max |y| (the leading
+            // wheelset's beside it where they differ, on a bogie or a car)
+            let leading = if (p.wheelset_amplitude_m - p.amplitude_y_m).abs() > 5e-7 {
+                format!(
+                    " (largest wheelset; leading wheelset {:.3} mm)",
+                    p.amplitude_y_m * 1e3
+                )
+            } else {
+                String::new()
+            };
             let _ = writeln!(
                 s,
-                "    {:<36} {:.4} m/s at amplitude {:.3} mm ({})",
+                "    {:<36} {:.4} m/s at amplitude {:.3} mm{leading} ({})",
                 p.kind.name(),
                 p.speed_m_s,
-                p.amplitude_y_m * 1e3,
+                p.wheelset_amplitude_m * 1e3,
                 if p.located { "located" } else { "bracketed" }
             );
         }
