@@ -284,7 +284,11 @@ fn the_cars_death_bracket_is_closed_by_a_decay_that_a_plain_simulation_confirms(
     let r = search(name, &model, &opts, Some(&b)).expect("search");
     let (_, bracket, id) = r.nonlinear_critical_speed.expect("an attractor");
     let (lo, hi) = bracket.expect("a bracket");
-    let a = &r.attractors[id];
+    let a = r
+        .attractors
+        .iter()
+        .find(|a| a.id == id)
+        .expect("V_NL's attractor");
     assert!(!a.open_below, "{}", a.fate);
     assert!(a.fate.starts_with("decays"), "{}", a.fate);
     let alive = a.path.last().expect("a path");

@@ -198,7 +198,7 @@ fn search_at_values(
                 Some((speed, bracket, id)) => {
                     at.search_m_s = Some(speed);
                     at.bracket_m_s = bracket;
-                    at.bracket_open = a.attractors.get(id).is_some_and(|x| x.open_below);
+                    at.bracket_open = a.attractors.iter().find(|x| x.id == id).is_some_and(|x| x.open_below);
                     let (lo, hi) = bracket.unwrap_or((speed, speed));
                     let open = if at.bracket_open {
                         ", a bracket open at its lower end: no verdict there, it may live lower"

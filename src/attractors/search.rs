@@ -849,8 +849,14 @@ fn seed_check(attractors: &[Attractor], s: &Seed, m: &Motion) -> SeedCheck {
 /// other's descent (a motion of that path within 5 % of its speed has amplitudes within 5 %)
 /// and both die within two brackets of each other. A jump lands on an attractor that a grid
 /// speed below finds again; since descents go down only, the two are followed separately and
-/// meet. The lower one's grid outcomes count as the other's; ids are renumbered.
-fn merge_duplicates(attractors: &mut Vec<Attractor>, rows: &mut [SpeedRow], bracket: f64) {
+/// meet. The lower one's grid outcomes count as the other's. Ids are kept (the progress lines
+/// already used them), so a merged attractor's id is missing from the list; returns the merges
+/// as (merged id, the id it joined).
+fn merge_duplicates(
+    attractors: &mut Vec<Attractor>,
+    rows: &mut [SpeedRow],
+    bracket: f64,
+) -> Vec<(usize, usize)> {
     let n = attractors.len();
     let mut into: Vec<usize> = (0..n).collect();
     for b in 0..n {
@@ -877,7 +883,7 @@ fn merge_duplicates(attractors: &mut Vec<Attractor>, rows: &mut [SpeedRow], brac
         }
     }
     if into.iter().enumerate().all(|(i, &j)| i == j) {
-        return;
+        return Vec::new();
     }
     let root = |mut i: usize| {
         while into[i] != i {
@@ -886,7 +892,8 @@ fn merge_duplicates(attractors: &mut Vec<Attractor>, rows: &mut [SpeedRow], brac
         i
     };
     let kept: Vec<usize> = (0..n).filter(|&i| root(i) == i).collect();
-    let new_id = |old: usize| kept.iter().position(|&k| k == root(old));
+    // ids are the attractors' indices before merging: a merged one's outcomes go to its root
+    let new_id = |old: usize| Some(attractors.get(root(old)).map_or(old, |a| a.id));
     for row in rows.iter_mut() {
         let mut merged: Vec<Outcome> = Vec::new();
         for mut o in std::mem::take(&mut row.outcomes) {
@@ -905,9 +912,12 @@ fn merge_duplicates(attractors: &mut Vec<Attractor>, rows: &mut [SpeedRow], brac
         row.outcomes = merged;
     }
     let mut out: Vec<Attractor> = Vec::with_capacity(kept.len());
-    for (id, &k) in kept.iter().enumerate() {
+    let merges: Vec<(usize, usize)> = (0..n)
+        .filter(|&b| root(b) != b)
+        .map(|b| (attractors[b].id, attractors[root(b)].id))
+        .collect();
+    for &k in &kept {
         let mut a = attractors[k].clone();
-        a.id = id;
         // the merged ones' motions join the path (their grid speeds among them), and the
         // lowest death is the attractor's
         for b in (0..n).filter(|&b| b != k && root(b) == k) {
@@ -930,6 +940,7 @@ fn merge_duplicates(attractors: &mut Vec<Attractor>, rows: &mut [SpeedRow], brac
         out.push(a);
     }
     *attractors = out;
+    merges
 }
 
 /// What the initial states of one speed ended on, with the basin fractions.
@@ -1153,7 +1164,11 @@ fn search_states<const N: usize>(
         }
     }
     follow::<N>(&ctx, &mut attractors, &fresh, &grid, continued);
-    merge_duplicates(&mut attractors, &mut rows, opts.bracket);
+    for (b, a) in merge_duplicates(&mut attractors, &mut rows, opts.bracket) {
+        ctx.say(&format!(
+            "  attractor {b} is attractor {a} (found again lower on its descent, dying in the same bracket): counted as attractor {a}"
+        ));
+    }
     let seed_checks: Vec<SeedCheck> = checked
         .iter()
         .skip(first_seed)

@@ -141,7 +141,7 @@ pub fn from_continuation(r: &BifurcationReport) -> (Option<(f64, bool)>, Vec<Vnl
 /// The search's candidate: its lowest hunting attractor.
 pub fn search_candidate(r: &crate::attractors::AttractorReport) -> Option<VnlCandidate> {
     let (v, bracket, id) = r.nonlinear_critical_speed?;
-    let a = r.attractors.get(id)?;
+    let a = r.attractors.iter().find(|a| a.id == id)?;
     Some(VnlCandidate {
         speed_m_s: v,
         located: bracket.is_some() && !a.open_below,

@@ -99,7 +99,7 @@ pub fn attractors_json(r: &AttractorReport, b: &BifurcationReport) -> Value {
         "nonlinear_critical_speed_sources": b.nonlinear_sources.iter().map(super::vnl_candidate_json).collect::<Vec<_>>(),
         "search_critical_speed_m_s": r.nonlinear_critical_speed.map(|v| v.0),
         "bracket_m_s": r.nonlinear_critical_speed.and_then(|v| v.1).map(|d| [d.0, d.1]),
-        "bracket_open": r.nonlinear_critical_speed.and_then(|v| r.attractors.get(v.2)).is_some_and(|a| a.open_below),
+        "bracket_open": r.nonlinear_critical_speed.and_then(|v| r.attractors.iter().find(|a| a.id == v.2)).is_some_and(|a| a.open_below),
         "search_attractor": r.nonlinear_critical_speed.map(|v| v.2),
         "attractors": attractors,
         "speeds": speeds,
@@ -167,11 +167,14 @@ period_s,max_multiplier_abs,lyapunov_per_s",
     };
     for sp in &r.speeds {
         for o in &sp.outcomes {
-            let motion = o.attractor.and_then(|i| r.attractors.get(i)).and_then(|a| {
-                a.path
-                    .iter()
-                    .find(|m| (m.speed_m_s - sp.speed_m_s).abs() < 1e-9)
-            });
+            let motion = o
+                .attractor
+                .and_then(|i| r.attractors.iter().find(|a| a.id == i))
+                .and_then(|a| {
+                    a.path
+                        .iter()
+                        .find(|m| (m.speed_m_s - sp.speed_m_s).abs() < 1e-9)
+                });
             match motion {
                 Some(m) => row(&mut s, "grid", o.attractor, Some(o.fraction), m),
                 None => row(
