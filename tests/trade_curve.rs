@@ -350,7 +350,7 @@ fn the_cars_trade_settles_its_disagreement_by_simulating_the_fold_cycle() {
     assert_eq!(sim["confirmed"], Value::Bool(true), "{sim}");
     let hi = f(&sim["dies_bracket_m_s"][1]);
     assert!(hi >= 110.0, "{hi}");
-    let state: Vec<f64> = sim["state"]
+    let state: Vec<f64> = sim["motion"]["state"]
         .as_array()
         .expect("state")
         .iter()

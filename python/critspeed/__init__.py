@@ -233,12 +233,20 @@ def simulate(
     study: Study,
     speeds: Union[Quantity, Sequence[Quantity]],
     *,
-    y0: Quantity = "5 mm",
+    y0: Optional[Quantity] = None,
     duration: Quantity = "30 s",
     dt: Quantity = "2 ms",
     out: Optional[PathLike] = None,
+    start_from: Optional[str] = None,
+    kick: Optional[Sequence[str]] = None,
 ) -> Dict[str, np.ndarray]:
     """Time histories at constant speeds from y(0) = ``y0``: ``{column of simulate.csv: array}``.
+
+    ``y0`` defaults to 5 mm, or to 0 with ``start_from`` or ``kick``. ``start_from`` is
+    ``"PATH:N"``: attractor N of an ``attractors.json``, each speed starting from the state of
+    its path nearest that speed (as ``critspeed simulate --from``); ``kick`` lists
+    displacements added to the start, ``"BODY.COORD=VALUE"`` (``"wheelset-3.y=6 mm"``), as
+    ``--kick``.
 
     Columns ``speed_m_s``, ``time_s``, ``y_m``, ``psi_rad``, ``ydot_m_s``, ``psidot_rad_s``;
     the runs follow one another (select one with ``r["speed_m_s"] == v``). Each argument is a
@@ -250,14 +258,21 @@ def simulate(
         speeds = [speeds]
     v = [_quantity("speeds", s, "speed") for s in speeds]
     kind, value = _study(study)
+    if y0 is None:
+        y0 = 0.0 if (start_from is not None or kick) else "5 mm"
+    y = _quantity("y0", y0, "length")
+    if start_from is not None and y != 0.0:
+        raise StudyError("y0 and start_from: give one start (kick adds to either)")
     cols = _native.simulate(
         kind,
         value,
         v,
-        _quantity("y0", y0, "length"),
+        y,
         _quantity("duration", duration, "time"),
         _quantity("dt", dt, "time"),
         _out(out),
+        start_from,
+        list(kick) if kick else None,
     )
     return _columns(_warned(cols))
 

@@ -399,7 +399,7 @@ fn attractors<'py>(
 
 /// The columns of simulate.csv.
 #[pyfunction]
-#[pyo3(signature = (kind, value, speeds, y0, duration, dt, out=None))]
+#[pyo3(signature = (kind, value, speeds, y0, duration, dt, out=None, start_from=None, kick=None))]
 #[allow(clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -410,6 +410,8 @@ fn simulate<'py>(
     duration: f64,
     dt: f64,
     out: Option<PathBuf>,
+    start_from: Option<String>,
+    kick: Option<Vec<String>>,
 ) -> PyResult<(Bound<'py, PyList>, Vec<String>)> {
     let src = source(kind, value)?;
     let req = SimulateRequest {
@@ -417,6 +419,12 @@ fn simulate<'py>(
         y0,
         duration,
         dt,
+        from: start_from
+            .as_deref()
+            .map(api::attractor_start)
+            .transpose()
+            .map_err(raise)?,
+        kicks: kick.unwrap_or_default(),
     };
     let (csv, w) = call(py, true, |cancel| {
         let mut w = Vec::new();

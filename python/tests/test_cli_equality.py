@@ -101,6 +101,27 @@ def test_simulate_equals_cli_csv(tmp_path):
     assert sorted(set(got["speed_m_s"])) == [10.0, 30.0, 40.0]
 
 
+def test_simulate_from_an_attractor_with_kicks_equals_cli(tmp_path):
+    study = REPO / "studies" / "dtu-cooperrider-car.toml"
+    state = [0.0] * 28
+    state[0] = 0.004
+    (tmp_path / "attractors.json").write_text(json.dumps(
+        {"attractors": [{"id": 2, "path": [{"speed_m_s": 120.0, "state": state}]}]}))
+    start = f"{tmp_path / 'attractors.json'}:2"
+    kicks = ["wheelset-3.y=6mm", "frame_2.psi=2 mrad"]
+    cli("simulate", study, "--speed", "100", "--duration", "0.2s", "--from", start,
+        "--kick", kicks[0], "--kick", kicks[1], "--out", tmp_path)
+    got = critspeed.simulate(study, 100, duration="0.2 s", start_from=start, kick=kicks)
+    same_as_csv(got, tmp_path / "dtu-cooperrider-car" / "simulate.csv")
+    assert got["y_wheelset_1_m"][0] == 0.004
+    assert got["y_wheelset_3_m"][0] == 0.006
+    assert got["psi_frame_2_rad"][0] == 0.002
+    with pytest.raises(critspeed.StudyError, match="no attractor 9"):
+        critspeed.simulate(study, 100, duration=0.1, start_from=f"{tmp_path / 'attractors.json'}:9")
+    with pytest.raises(critspeed.StudyError, match="no body"):
+        critspeed.simulate(study, 100, duration=0.1, kick=["wheel-9.y=1mm"])
+
+
 SWEEP = """
 [bifurcation]
 max_amplitude = "1 mm"

@@ -209,6 +209,122 @@ pub struct SimulateRequest {
     pub duration: f64,
     /// output sample interval (s)
     pub dt: f64,
+    /// start on a motion the attractor search found instead of y(0): each speed starts from
+    /// the state of the attractor's path nearest that speed ([`attractor_start`])
+    pub from: Option<AttractorStart>,
+    /// displacements added to the start, `BODY.COORD=VALUE` (`"wheelset 3.y=6 mm"`,
+    /// `"frame 2.psi=2 mrad"`; hyphens and underscores in the body's name read as spaces;
+    /// coordinates `y`, `psi` (or `yaw`), `phi` (or `roll`) where the body rolls)
+    pub kicks: Vec<String>,
+}
+
+/// A start on an attractor of `attractors.json`: its path's states by speed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AttractorStart {
+    /// where it comes from, in words (`out/x/attractors.json: attractor 2`)
+    pub source: String,
+    /// (speed m/s, state in the model's order, SI) along the attractor's descent
+    pub path: Vec<(f64, Vec<f64>)>,
+}
+
+impl AttractorStart {
+    /// The path's state nearest `speed`, with its speed.
+    pub fn nearest(&self, speed: f64) -> Option<&(f64, Vec<f64>)> {
+        self.path
+            .iter()
+            .min_by(|a, b| (a.0 - speed).abs().total_cmp(&(b.0 - speed).abs()))
+    }
+}
+
+/// Reads attractor `id` of an `attractors.json` (`critspeed attractors`' output): its path's
+/// states by speed. `spec` is `PATH:ID`.
+pub fn attractor_start(spec: &str) -> Result<AttractorStart, Failure> {
+    let rule = "must be PATH:N, an attractors.json written by `critspeed attractors` and an attractor id in it";
+    let (path, id) = spec
+        .rsplit_once(':')
+        .ok_or_else(|| user(anyhow!("--from {spec:?}: {rule}")))?;
+    let id: u64 = id.trim().parse().map_err(|_| {
+        user(anyhow!(
+            "--from {spec:?}: {id:?} is not an attractor id; {rule}"
+        ))
+    })?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| user(anyhow!("--from {spec:?}: reading {path}: {e}")))?;
+    let j: Value = serde_json::from_str(&text)
+        .map_err(|e| user(anyhow!("--from {spec:?}: {path} is not JSON ({e}); {rule}")))?;
+    let list = j["attractors"].as_array().ok_or_else(|| {
+        user(anyhow!(
+            "--from {spec:?}: {path} has no \"attractors\" list; {rule}"
+        ))
+    })?;
+    let ids: Vec<String> = list.iter().map(|a| a["id"].to_string()).collect();
+    let a = list
+        .iter()
+        .find(|a| a["id"].as_u64() == Some(id))
+        .ok_or_else(|| {
+            user(anyhow!(
+                "--from {spec:?}: no attractor {id} in {path} (its ids: {})",
+                ids.join(", ")
+            ))
+        })?;
+    let path_states: Vec<(f64, Vec<f64>)> = a["path"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|m| {
+            let v = m["speed_m_s"].as_f64()?;
+            let x: Option<Vec<f64>> = m["state"].as_array()?.iter().map(Value::as_f64).collect();
+            x.filter(|x| !x.is_empty()).map(|x| (v, x))
+        })
+        .collect();
+    if path_states.is_empty() {
+        return Err(user(anyhow!(
+            "--from {spec:?}: attractor {id} of {path} has no states (written by an older critspeed: run `critspeed attractors` again)"
+        )));
+    }
+    Ok(AttractorStart {
+        source: format!("{path}: attractor {id}"),
+        path: path_states,
+    })
+}
+
+/// The state index and value of a kick `BODY.COORD=VALUE` on `model`.
+pub fn parse_kick(model: &Vehicle, kick: &str) -> Result<(usize, f64), Failure> {
+    let bodies: Vec<&str> = model.bodies.iter().map(|b| b.name.as_str()).collect();
+    let rule = format!(
+        "must be BODY.COORD=VALUE with BODY one of {} (hyphens or underscores for spaces), COORD y, psi or phi, VALUE with a unit",
+        bodies.join(", ")
+    );
+    let (target, value) = kick
+        .split_once('=')
+        .ok_or_else(|| user(anyhow!("--kick {kick:?}: {rule}")))?;
+    let (body, coord) = target
+        .trim()
+        .rsplit_once('.')
+        .ok_or_else(|| user(anyhow!("--kick {kick:?}: {rule}")))?;
+    let norm = |s: &str| s.trim().replace(['-', '_'], " ").to_lowercase();
+    let b = model
+        .bodies
+        .iter()
+        .find(|b| norm(&b.name) == norm(body))
+        .ok_or_else(|| user(anyhow!("--kick {kick:?}: no body {body:?}; {rule}")))?;
+    let (offset, dim) = match coord.trim().to_lowercase().as_str() {
+        "y" => (0, Dimension::Length),
+        "psi" | "yaw" | "ψ" => (1, Dimension::Angle),
+        "phi" | "roll" | "φ" if b.dofs() > 2 => (2, Dimension::Angle),
+        _ => {
+            return Err(user(anyhow!(
+                "--kick {kick:?}: {coord:?} is not a coordinate of {} ({rule})",
+                b.name
+            )))
+        }
+    };
+    let v =
+        parse_quantity(value, dim).map_err(|e| user(anyhow!("--kick {kick:?}: {value:?}: {e}")))?;
+    if !v.is_finite() {
+        return Err(user(anyhow!("--kick {kick:?}: the value must be finite")));
+    }
+    Ok((b.dof + offset, v))
 }
 
 impl SimulateRequest {
@@ -219,6 +335,7 @@ impl SimulateRequest {
             y0,
             duration,
             dt,
+            ..
         } = self;
         let finite = speeds
             .iter()
@@ -265,7 +382,30 @@ pub fn simulate(
             return Err(compute(anyhow!("time simulation cancelled before {v} m/s")));
         }
         before(v);
-        let x0 = crate::simulate::lateral_start(&p.model, req.y0);
+        let mut x0 = match &req.from {
+            Some(from) => {
+                let (_, x) = from
+                    .nearest(v)
+                    .ok_or_else(|| user(anyhow!("--from {}: no states", from.source)))?;
+                if x.len() != p.model.states() {
+                    return Err(user(anyhow!(
+                        "--from {}: its states have {} values, the model of '{}' has {} states: the file is another study's",
+                        from.source,
+                        x.len(),
+                        p.plan.name,
+                        p.model.states()
+                    )));
+                }
+                x.clone()
+            }
+            None => crate::simulate::lateral_start(&p.model, req.y0),
+        };
+        for k in &req.kicks {
+            let (i, value) = parse_kick(&p.model, k)?;
+            if let Some(x) = x0.get_mut(i) {
+                *x += value;
+            }
+        }
         let h = crate::simulate::simulate(&p.model, v, &x0, req.duration, req.dt, &ode)
             .with_context(|| format!("time simulation at {v} m/s"))
             .map_err(compute)?;

@@ -45,18 +45,35 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
             study,
             speed,
             y0,
+            from,
+            kick,
             duration,
             dt,
         } => {
             let plan = load(study)?;
+            let y0 = match y0 {
+                Some(y) => argument("--y0", y, Dimension::Length)?,
+                None if from.is_some() || !kick.is_empty() => 0.0,
+                None => 5e-3,
+            };
+            if from.is_some() && y0 != 0.0 {
+                return Err(user(anyhow::anyhow!(
+                    "--y0 and --from: give one start (--kick adds to either)"
+                )));
+            }
             let req = SimulateRequest {
                 speeds: speed
                     .iter()
                     .map(|v| argument("--speed", v, Dimension::Speed))
                     .collect::<Result<Vec<_>, _>>()?,
-                y0: argument("--y0", y0, Dimension::Length)?,
+                y0,
                 duration: argument("--duration", duration, Dimension::Time)?,
                 dt: argument("--dt", dt, Dimension::Time)?,
+                from: from
+                    .as_deref()
+                    .map(crate::api::attractor_start)
+                    .transpose()?,
+                kicks: kick.clone(),
             };
             req.validate()?;
             simulate(&prepare(plan)?, &cli.out, &req)
@@ -251,12 +268,26 @@ pub(super) fn argument(flag: &str, text: &str, dim: Dimension) -> Result<f64, Fa
 
 fn simulate(p: &Prepared, root: &Path, req: &SimulateRequest) -> Result<(), Failure> {
     let name = &p.plan().name;
-    let before = |v: f64| {
-        statusln!(
-            "simulating '{name}' at {v} m/s for {} s from y(0) = {} mm",
+    let kicks = if req.kicks.is_empty() {
+        String::new()
+    } else {
+        format!(" plus {}", req.kicks.join(", "))
+    };
+    let before = |v: f64| match req
+        .from
+        .as_ref()
+        .and_then(|f| f.nearest(v).map(|n| (f, n.0)))
+    {
+        Some((f, at)) => statusln!(
+            "simulating '{name}' at {v} m/s for {} s from {}'s state at {at} m/s{kicks}",
+            req.duration,
+            f.source
+        ),
+        None => statusln!(
+            "simulating '{name}' at {v} m/s for {} s from y(0) = {} mm{kicks}",
             req.duration,
             req.y0 * 1e3
-        )
+        ),
     };
     let runs = api::simulate(p, req, &before, None)?;
     write_all(&out_dir(root, p.plan())?, &files::simulate(name, &runs))?;

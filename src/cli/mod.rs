@@ -81,9 +81,18 @@ pub enum Command {
         /// Speed(s), comma-separated or repeated, with a unit or in m/s: --speed 10,30,40
         #[arg(long, value_delimiter = ',', required = true)]
         speed: Vec<String>,
-        /// Initial lateral displacement y(0).
-        #[arg(long, default_value = "5 mm")]
-        y0: String,
+        /// Initial lateral displacement y(0) of the first body (default 5 mm; 0 with --from
+        /// or --kick).
+        #[arg(long)]
+        y0: Option<String>,
+        /// Start on an attractor the search found: PATH:N, attractor N of an attractors.json
+        /// (each speed starts from the state of its path nearest that speed).
+        #[arg(long)]
+        from: Option<String>,
+        /// Add a displacement to the start: BODY.COORD=VALUE, e.g. "wheelset-3.y=6mm" or
+        /// "frame-2.psi=2mrad"; repeat for several.
+        #[arg(long)]
+        kick: Vec<String>,
         /// Simulated time.
         #[arg(long, default_value = "30 s")]
         duration: String,

@@ -357,14 +357,28 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> String {
 
 /// Summary of time simulations: amplitude early and late, and whether the motion grew.
 pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> String {
-    let mut s = format!("\nstudy '{study}': time simulation (lateral amplitude max|y|)\n");
+    let mut s = format!(
+        "\nstudy '{study}': time simulation (lateral amplitude: the largest wheelset's max|y|)\n"
+    );
     for h in runs {
-        let n = h.x.len();
-        let first = h.x[..n / 10 + 1]
+        // the wheelsets' lateral coordinates: `y_m` of a single wheelset, `y_wheelset_k_m` of a
+        // vehicle (the amplitude the diagrams plot)
+        let ys: Vec<usize> = h
+            .state_names
             .iter()
-            .map(|x| x[0].abs())
-            .fold(0.0, f64::max);
-        let last = h.final_amplitude(0.1);
+            .enumerate()
+            .filter(|(_, n)| *n == "y_m" || n.starts_with("y_wheelset"))
+            .map(|(i, _)| i)
+            .collect();
+        let ys = if ys.is_empty() { vec![0] } else { ys };
+        let amplitude = |rows: &[Vec<f64>]| {
+            rows.iter()
+                .flat_map(|x| ys.iter().filter_map(|&i| x.get(i)))
+                .fold(0.0, |m: f64, v| m.max(v.abs()))
+        };
+        let n = h.x.len();
+        let first = amplitude(&h.x[..n / 10 + 1]);
+        let last = amplitude(&h.x[(n - n / 10).min(n.saturating_sub(1))..]);
         let verdict = if last > first * 1.05 {
             "grows (hunting)"
         } else if last < first * 0.95 {

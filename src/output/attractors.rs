@@ -23,6 +23,7 @@ fn motion_json(m: &Motion, bodies: &[String]) -> Value {
         "amplitude_y_left_m": m.amplitudes.first().map(|a| a.y_left_m),
         "max_multiplier_abs": m.max_multiplier,
         "lyapunov_per_s": m.lyapunov_per_s,
+        "state": m.state,
         "bodies": m.amplitudes.iter().zip(bodies).map(|(a, b)| json!({
             "body": b,
             "y_right_m": a.y_right_m,
@@ -42,7 +43,6 @@ pub fn seed_check_json(c: &crate::attractors::SeedCheck, bodies: &[String]) -> V
         "confirmed": c.confirmed(),
         "motion": motion_json(&c.motion, bodies),
         "note": c.motion.note,
-        "state": c.motion.state,
         "attractor": c.attractor,
         "lowest_m_s": c.lowest_m_s,
         "dies_bracket_m_s": c.dies_m_s.map(|d| [d.0, d.1]),
