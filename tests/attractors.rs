@@ -375,3 +375,99 @@ fn a_seeded_cycle_is_followed_down_to_the_continuations_fold_and_a_seed_below_it
     // the search's V_NL is the seeded attractor's
     assert_eq!(r.nonlinear_critical_speed.map(|v| v.0), Some(hi));
 }
+
+/// One numbering from the first progress line to the report, on the S1002 bogie (several
+/// attractors, two of which turn out to be one): every attractor of the report was followed
+/// under its own number; an attractor merged into another (its progress line says which) is
+/// not in the report and the one it joined is; an attractor no other joined dies where its own
+/// progress line said (to the line's 0.01 m/s), one that another joined no higher; and every
+/// grid outcome names an attractor of the report.
+#[test]
+fn the_progress_lines_and_the_report_number_the_attractors_alike() {
+    use critspeed::attractors::search_with_hooks;
+    use std::sync::Mutex;
+    let name = "dtu-cooperrider-bogie-s1002";
+    let plan = study(name);
+    let model = plan.model().expect("model");
+    let bo = plan.bifurcation_options();
+    let b = bifurcation::analyse(name, &model, &bo).expect("branch");
+    let opts = plan.attractors.clone().unwrap_or_default().options(
+        bo.speed_range,
+        b.hopf.map(|h| h.speed_m_s),
+        bo.geometry_limit,
+    );
+    let lines = Mutex::new(Vec::<String>::new());
+    let progress = |l: &str| lines.lock().expect("lines").push(l.to_string());
+    let r =
+        search_with_hooks(name, &model, &opts, Some(&b), Some(&progress), None).expect("search");
+    let lines = lines.into_inner().expect("lines");
+    let number = |l: &str, after: &str| -> Option<usize> {
+        let rest = l.split(after).nth(1)?;
+        rest.split(|c: char| !c.is_ascii_digit())
+            .next()?
+            .parse()
+            .ok()
+    };
+    let mut followed = Vec::new();
+    let mut died = Vec::new();
+    let mut merged = Vec::new();
+    for l in &lines {
+        if l.contains("following attractor ") {
+            followed.extend(number(l, "following attractor "));
+        } else if l.contains(" exists down to ") {
+            let id = number(l, "attractor ").expect("an id");
+            let v: f64 = l
+                .split(" exists down to ")
+                .nth(1)
+                .and_then(|s| s.split(' ').next())
+                .and_then(|s| s.parse().ok())
+                .expect("a speed");
+            died.push((id, v));
+        } else if l.contains(" is attractor ") {
+            let b = number(l, "attractor ").expect("an id");
+            let a = number(l, " is attractor ").expect("an id");
+            merged.push((b, a));
+        }
+    }
+    assert!(r.attractors.len() >= 2, "{lines:#?}");
+    for a in &r.attractors {
+        assert!(
+            followed.contains(&a.id),
+            "attractor {} never followed: {lines:#?}",
+            a.id
+        );
+    }
+    for &(b, a) in &merged {
+        assert!(
+            r.attractors.iter().all(|x| x.id != b),
+            "merged {b} still listed"
+        );
+        assert!(r.attractors.iter().any(|x| x.id == a), "{a} not listed");
+    }
+    for &(id, v) in &died {
+        if merged.iter().any(|m| m.0 == id) {
+            continue;
+        }
+        let a = r.attractors.iter().find(|x| x.id == id).expect("listed");
+        if merged.iter().any(|m| m.1 == id) {
+            assert!(
+                a.lowest_m_s() <= v + 0.005,
+                "{id}: {} > {v}",
+                a.lowest_m_s()
+            );
+        } else {
+            assert!(
+                (a.lowest_m_s() - v).abs() <= 0.005,
+                "{id}: {} against {v}",
+                a.lowest_m_s()
+            );
+        }
+    }
+    for s in &r.speeds {
+        for o in &s.outcomes {
+            if let Some(id) = o.attractor {
+                assert!(r.attractors.iter().any(|x| x.id == id), "outcome {id}");
+            }
+        }
+    }
+}

@@ -126,6 +126,62 @@ fn judge(v: f64, speed: f64, bracket: Option<(f64, f64)>) -> Verdict {
     }
 }
 
+/// Where the search's V_NL `search` is above the continuation's `v` at key value `p`: the fold
+/// curves' cycles there simulated and followed down ([`crate::trade::settle`]), in words. A
+/// confirmed fold keeps the continuation's V_NL; an unconfirmed one keeps it too, as a
+/// candidate the simulation did not confirm (the safe side), and says so.
+fn settle_at(study: &CurveStudy, report: &CurveReport, p: f64, v: f64, search: f64) -> String {
+    use crate::trade::settle::{settle, FoldCycle};
+    let cycles: Vec<FoldCycle> = report
+        .curves
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.kind == CurveKind::Fold)
+        .flat_map(|(i, c)| {
+            c.points
+                .iter()
+                .filter(|q| {
+                    q.parameter == p && q.stable_cycle == Some(true) && !q.cycle_state.is_empty()
+                })
+                .map(move |q| FoldCycle {
+                    curve: i,
+                    label: c.label.to_string(),
+                    fold_m_s: q.speed_m_s,
+                    parameter: p,
+                    state: q.cycle_state.clone(),
+                })
+        })
+        .collect();
+    let run = study
+        .keyed
+        .plan_at(p)
+        .map_err(|e| e.to_string())
+        .and_then(|plan| {
+            let model = study.keyed.model_at(p).map_err(|e| e.to_string())?;
+            settle(
+                &plan,
+                &model,
+                &cycles,
+                v,
+                Some(search),
+                "the attractor search",
+            )
+        });
+    match run {
+        Ok(st) if st.confirmed => format!(
+            "settled by simulating the fold's cycle, the continuation's value stands: {}",
+            st.words
+        ),
+        Ok(st) => format!(
+            "simulating the folds' cycles does not confirm the continuation's value, which stands as an unconfirmed candidate (the safe side): {}",
+            st.words
+        ),
+        Err(e) => format!(
+            "the continuation's value stands, not settled by simulation ({e})"
+        ),
+    }
+}
+
 /// The attractor search (`critspeed attractors`: the study's `[attractors]` section or its
 /// defaults) on the study rewritten at every V_NL value of `report`. Where it finds a hunting
 /// attractor alive below the curves' V_NL (below its death bracket's lower end, by more than
@@ -212,9 +268,13 @@ fn search_at_values(
                             ));
                             found_at.push((p, speed, VnlMethod::AttractorSearch));
                         }
-                        (true, Verdict::SearchHigher) => report.notes.push(format!(
-                            "at {place} the attractor search's lowest hunting attractor dies in [{lo:.3}, {hi:.3}] m/s{open}, above {continuation}: the continuation's value stands (the search missed that cycle)"
-                        )),
+                        (true, Verdict::SearchHigher) => {
+                            // settled by simulating the folds' own cycles there
+                            let settled = settle_at(study, report, p, v, speed);
+                            report.notes.push(format!(
+                                "at {place} the attractor search's lowest hunting attractor dies in [{lo:.3}, {hi:.3}] m/s{open}, above {continuation}: {settled}"
+                            ));
+                        }
                         (true, Verdict::SearchLower) => {
                             report.notes.push(format!(
                                 "at {place} the attractor search finds hunting down to {speed:.3} m/s (it dies in [{lo:.3}, {hi:.3}] m/s{open}), below {continuation}: V_NL there is the search's (an attractor no followed fold bounds)"

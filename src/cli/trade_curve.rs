@@ -90,7 +90,14 @@ fn settle_at(
         .map_err(|e| e.to_string())
         .and_then(|plan| {
             let model = keyed.model_at(x).map_err(|e| e.to_string())?;
-            crate::trade::settle::settle(&plan, &model, &cycles, curves_m_s, one_point)
+            crate::trade::settle::settle(
+                &plan,
+                &model,
+                &cycles,
+                curves_m_s,
+                one_point,
+                "the one-point computation",
+            )
         });
     run.unwrap_or_else(|e| Settlement {
         one_point_m_s: one_point,

@@ -73,7 +73,7 @@ impl Check {
 /// The outcome of settling.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Settlement {
-    /// the one-point computation's V_NL (m/s)
+    /// the other method's V_NL (m/s): the one-point computation's in a trade
     pub one_point_m_s: Option<f64>,
     /// the curves' V_NL at the key value (m/s)
     pub curves_m_s: f64,
@@ -93,16 +93,18 @@ pub struct Settlement {
     pub bodies: Vec<String>,
 }
 
-/// Settles the curves' V_NL `curves_m_s` against the one-point computation's `one_point` at
-/// one key value, whose study plan and model are `plan` and `model`, by simulating from the
-/// fold cycles `cycles` (those within [`super::intervals::DIFFER`] of `one_point` or above it
-/// are left out: the one-point computation has their motion).
+/// Settles the curves' V_NL `curves_m_s` against another method's `one_point` (named `other`:
+/// "the one-point computation", "the attractor search") at one key value, whose study plan
+/// and model are `plan` and `model`, by simulating from the fold cycles `cycles` (those within
+/// [`super::intervals::DIFFER`] of `one_point` or above it are left out: the other method has
+/// their motion).
 pub fn settle(
     plan: &Plan,
     model: &Vehicle,
     cycles: &[FoldCycle],
     curves_m_s: f64,
     one_point: Option<f64>,
+    other: &str,
 ) -> Result<Settlement, String> {
     let below: Vec<&FoldCycle> = cycles
         .iter()
@@ -147,7 +149,14 @@ pub fn settle(
         (a, b) => a.or(b),
     };
     let confirmed = lowest.is_some_and(|l| l <= curves_m_s + 2.0 * opts.bracket);
-    let words = words(&checks, curves_m_s, one_point, nonlinear_m_s, confirmed);
+    let words = words(
+        &checks,
+        curves_m_s,
+        one_point,
+        nonlinear_m_s,
+        confirmed,
+        other,
+    );
     Ok(Settlement {
         one_point_m_s: one_point,
         curves_m_s,
@@ -192,11 +201,12 @@ fn words(
     one_point: Option<f64>,
     settled: Option<f64>,
     confirmed: bool,
+    other: &str,
 ) -> String {
     let op = one_point.map_or("none".to_string(), |v| format!("{v:.3} m/s"));
     if checks.is_empty() {
         return format!(
-            "no fold curve below the one-point V_NL ({op}) passes this key value with a cycle to start from; the curves' {curves:.3} m/s is not tested"
+            "no fold curve below {other}'s V_NL ({op}) passes this key value with a cycle to start from; the curves' {curves:.3} m/s is not tested"
         );
     }
     let mut w = String::new();
@@ -215,17 +225,17 @@ fn words(
     if confirmed {
         let _ = write!(
             w,
-            "CONFIRMED: a hunting attractor lives down to the curves' V_NL ({curves:.3} m/s), which the one-point computation ({op}) did not reach; V_NL = {v}"
+            "CONFIRMED: a hunting attractor lives down to the curves' V_NL ({curves:.3} m/s), which {other} ({op}) did not reach; V_NL = {v}"
         );
     } else if settled.is_some_and(|s| one_point.is_none_or(|o| s < o)) {
         let _ = write!(
             w,
-            "PARTLY CONFIRMED: a hunting attractor lives below the one-point V_NL ({op}) but not down to the curves' {curves:.3} m/s; V_NL = {v}"
+            "PARTLY CONFIRMED: a hunting attractor lives below {other}'s V_NL ({op}) but not down to the curves' {curves:.3} m/s; V_NL = {v}"
         );
     } else {
         let _ = write!(
             w,
-            "REFUTED: no motion started on the curves' fold cycles hunts below the one-point V_NL ({op}), so the curves' {curves:.3} m/s bounds no attractor found here; V_NL = {v} (the one-point computation's)"
+            "REFUTED: no motion started on the curves' fold cycles hunts below {other}'s V_NL ({op}), so the curves' {curves:.3} m/s bounds no attractor found here; V_NL = {v} ({other}'s)"
         );
     }
     w
