@@ -10,6 +10,8 @@ use critspeed::reference::HopfNormalForm;
 use critspeed::system::ode::{integrate, OdeOptions, Tolerances};
 use nalgebra::SVector;
 
+mod common;
+
 fn settle() -> Settle {
     Settle {
         max_time: 30.0,
@@ -268,7 +270,6 @@ fn a_continued_asymmetric_cycle_of_the_bogie_is_a_long_simulations_attractor() {
 /// 1 mm at the upper end.
 #[test]
 fn the_cars_death_bracket_is_closed_by_a_decay_that_a_plain_simulation_confirms() {
-    use critspeed::system::ode::integrate_with_extremes;
     const N: usize = 28;
     let name = "dtu-cooperrider-car";
     let plan = study(name);
@@ -294,19 +295,7 @@ fn the_cars_death_bracket_is_closed_by_a_decay_that_a_plain_simulation_confirms(
     let alive = a.path.last().expect("a path");
     assert_eq!(alive.speed_m_s, hi);
     let x0 = SVector::<f64, N>::from_iterator(alive.state.iter().copied());
-    let opts = OdeOptions {
-        tol: Tolerances::new(1e-8, 1e-11).expect("valid"),
-        ..OdeOptions::default()
-    };
-    let excursion = |v: f64| {
-        let x = integrate(&model, v, &x0, 140.0, &opts).expect("140 s").x;
-        let (_, high, low) = integrate_with_extremes(&model, v, &x, 10.0, &opts).expect("10 s");
-        model
-            .wheelset_dofs()
-            .iter()
-            .map(|&d| high[d].abs().max(low[d].abs()))
-            .fold(0.0, f64::max)
-    };
+    let excursion = |v: f64| common::excursion_after_150_s(&model, v, &x0);
     let (below, above) = (excursion(lo), excursion(hi));
     assert!(below < 1e-4, "at {lo} m/s: {below} m after 150 s");
     assert!(above > 1e-3, "at {hi} m/s: {above} m after 150 s");

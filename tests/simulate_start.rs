@@ -19,6 +19,16 @@ fn study_path(name: &str) -> String {
         .to_string()
 }
 
+/// Asserts that a run succeeded, showing its stderr where it did not.
+fn succeeded(out: &std::process::Output) {
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 /// The columns of a simulate.csv.
 fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let text = std::fs::read_to_string(path).expect("simulate.csv");
@@ -132,12 +142,7 @@ fn kicks_displace_the_named_coordinates_only() {
         ],
         &dir,
     );
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     let (head, rows) = csv(&dir.join("dtu-cooperrider-car/simulate.csv"));
     let first = &rows[0];
     for (h, v) in head.iter().zip(first) {
@@ -231,10 +236,5 @@ fn bad_starts_are_refused_naming_option_value_and_rule() {
         ],
         &dir,
     );
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
 }

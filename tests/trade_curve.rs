@@ -311,7 +311,6 @@ fn the_onset_on_the_curves_is_the_stable_band_top() {
 /// and has decayed 2 m/s below it.
 #[test]
 fn the_cars_trade_settles_its_disagreement_by_simulating_the_fold_cycle() {
-    use critspeed::system::ode::{integrate, integrate_with_extremes, OdeOptions, Tolerances};
     use nalgebra::SVector;
     const N: usize = 28;
     let dir = scratch("trade_curve_car_settle");
@@ -366,21 +365,7 @@ fn the_cars_trade_settles_its_disagreement_by_simulating_the_fold_cycle() {
     .expect("valid");
     let model = plan.model().expect("model");
     let x0 = SVector::<f64, N>::from_iterator(state);
-    let opts = OdeOptions {
-        tol: Tolerances::new(1e-8, 1e-11).expect("valid"),
-        ..OdeOptions::default()
-    };
-    let excursion = |speed: f64| {
-        let x = integrate(&model, speed, &x0, 140.0, &opts)
-            .expect("140 s")
-            .x;
-        let (_, high, low) = integrate_with_extremes(&model, speed, &x, 10.0, &opts).expect("10 s");
-        model
-            .wheelset_dofs()
-            .iter()
-            .map(|&d| high[d].abs().max(low[d].abs()))
-            .fold(0.0, f64::max)
-    };
+    let excursion = |v: f64| common::excursion_after_150_s(&model, v, &x0);
     let (alive, gone) = (excursion(hi), excursion(hi - 2.0));
     eprintln!(
         "after 150 s at {x} N s/m: {alive:.3e} m at {hi} m/s, {gone:.3e} m at {} m/s",

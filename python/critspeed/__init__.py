@@ -261,8 +261,6 @@ def simulate(
     if y0 is None:
         y0 = 0.0 if (start_from is not None or kick) else "5 mm"
     y = _quantity("y0", y0, "length")
-    if start_from is not None and y != 0.0:
-        raise StudyError("y0 and start_from: give one start (kick adds to either)")
     cols = _native.simulate(
         kind,
         value,

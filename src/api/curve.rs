@@ -131,7 +131,7 @@ fn judge(v: f64, speed: f64, bracket: Option<(f64, f64)>) -> Verdict {
 /// confirmed fold keeps the continuation's V_NL; an unconfirmed one keeps it too, as a
 /// candidate the simulation did not confirm (the safe side), and says so.
 fn settle_at(study: &CurveStudy, report: &CurveReport, p: f64, v: f64, search: f64) -> String {
-    use crate::trade::settle::{settle, FoldCycle};
+    use crate::trade::settle::{settle_at, FoldCycle};
     let cycles: Vec<FoldCycle> = report
         .curves
         .iter()
@@ -152,21 +152,14 @@ fn settle_at(study: &CurveStudy, report: &CurveReport, p: f64, v: f64, search: f
                 })
         })
         .collect();
-    let run = study
-        .keyed
-        .plan_at(p)
-        .map_err(|e| e.to_string())
-        .and_then(|plan| {
-            let model = study.keyed.model_at(p).map_err(|e| e.to_string())?;
-            settle(
-                &plan,
-                &model,
-                &cycles,
-                v,
-                Some(search),
-                "the attractor search",
-            )
-        });
+    let run = settle_at(
+        &study.keyed,
+        p,
+        &cycles,
+        v,
+        Some(search),
+        "the attractor search",
+    );
     match run {
         Ok(st) if st.confirmed => format!(
             "settled by simulating the fold's cycle, the continuation's value stands: {}",

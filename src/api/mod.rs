@@ -328,7 +328,8 @@ pub fn parse_kick(model: &Vehicle, kick: &str) -> Result<(usize, f64), Failure> 
 }
 
 impl SimulateRequest {
-    /// The rules: positive speeds and duration, 0 < dt <= duration, at most 5e6 samples.
+    /// The rules: positive speeds and duration, 0 < dt <= duration, at most 5e6 samples, and
+    /// one start (y0 = 0 with `from`).
     pub fn validate(&self) -> Result<(), Failure> {
         let SimulateRequest {
             speeds,
@@ -351,6 +352,11 @@ impl SimulateRequest {
             return Err(user(anyhow!(
                 "speeds {speeds:?} m/s, y0 {y0} m, duration {duration} s, dt {dt} s: \
                  at least one speed, all speeds and the duration positive, 0 < dt <= duration"
+            )));
+        }
+        if self.from.is_some() && *y0 != 0.0 {
+            return Err(user(anyhow!(
+                "--y0 and --from: give one start (--kick adds to either)"
             )));
         }
         if duration / dt > 5e6 {

@@ -56,11 +56,6 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
                 None if from.is_some() || !kick.is_empty() => 0.0,
                 None => 5e-3,
             };
-            if from.is_some() && y0 != 0.0 {
-                return Err(user(anyhow::anyhow!(
-                    "--y0 and --from: give one start (--kick adds to either)"
-                )));
-            }
             let req = SimulateRequest {
                 speeds: speed
                     .iter()

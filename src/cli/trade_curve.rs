@@ -85,20 +85,14 @@ fn settle_at(
     one_point: Option<f64>,
 ) -> Settlement {
     let cycles = on.fold_cycles(x);
-    let run = keyed
-        .plan_at(x)
-        .map_err(|e| e.to_string())
-        .and_then(|plan| {
-            let model = keyed.model_at(x).map_err(|e| e.to_string())?;
-            crate::trade::settle::settle(
-                &plan,
-                &model,
-                &cycles,
-                curves_m_s,
-                one_point,
-                "the one-point computation",
-            )
-        });
+    let run = crate::trade::settle::settle_at(
+        keyed,
+        x,
+        &cycles,
+        curves_m_s,
+        one_point,
+        "the one-point computation",
+    );
     run.unwrap_or_else(|e| Settlement {
         one_point_m_s: one_point,
         curves_m_s,

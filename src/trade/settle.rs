@@ -169,6 +169,21 @@ pub fn settle(
     })
 }
 
+/// [`settle`] on `keyed` rewritten at key value `x`; a study or model that cannot be built
+/// there is an error in words.
+pub fn settle_at(
+    keyed: &crate::curve::keyed::KeyedStudy,
+    x: f64,
+    cycles: &[FoldCycle],
+    curves_m_s: f64,
+    one_point: Option<f64>,
+    other: &str,
+) -> Result<Settlement, String> {
+    let plan = keyed.plan_at(x).map_err(|e| e.to_string())?;
+    let model = keyed.model_at(x).map_err(|e| e.to_string())?;
+    settle(&plan, &model, cycles, curves_m_s, one_point, other)
+}
+
 fn seed_words(s: &SeedCheck) -> String {
     let m = &s.motion;
     let mut w = format!("at {:.3} m/s: {}", s.speed_m_s, m.kind.name());

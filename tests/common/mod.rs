@@ -53,3 +53,25 @@ pub fn reference(name: &str) -> String {
     let path = root().join("tests/data").join(name);
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
+
+/// Every wheelset's largest lateral excursion (m) over the last 10 s of a plain 150 s
+/// simulation of `model` at `speed` from `x0` (rtol 1e-8): hunting or not, by an integration
+/// that shares nothing with the attractor search but the right-hand side.
+pub fn excursion_after_150_s<const N: usize>(
+    model: &critspeed::model::Vehicle,
+    speed: f64,
+    x0: &nalgebra::SVector<f64, N>,
+) -> f64 {
+    use critspeed::system::ode::{integrate, integrate_with_extremes, OdeOptions, Tolerances};
+    let opts = OdeOptions {
+        tol: Tolerances::new(1e-8, 1e-11).expect("valid"),
+        ..OdeOptions::default()
+    };
+    let x = integrate(model, speed, x0, 140.0, &opts).expect("140 s").x;
+    let (_, high, low) = integrate_with_extremes(model, speed, &x, 10.0, &opts).expect("10 s");
+    model
+        .wheelset_dofs()
+        .iter()
+        .map(|&d| high[d].abs().max(low[d].abs()))
+        .fold(0.0, f64::max)
+}
