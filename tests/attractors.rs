@@ -459,4 +459,10 @@ fn the_progress_lines_and_the_report_number_the_attractors_alike() {
             }
         }
     }
+    // The picture of this search (ten legend entries over a branch at 6.5 mm that spans the
+    // whole speed range and a chaotic attractor's dots) hides none of them under its legend.
+    let fig = critspeed::figures::attractors(&r, &b);
+    let svg = fig.svg.expect("attractors.svg renders");
+    assert_eq!(critspeed::plot::legend_count(&svg), 1);
+    common::assert_legend_free(&svg, "attractors.svg of the S1002 bogie");
 }

@@ -67,15 +67,29 @@ pub fn sweep_with_curves(
             *slot = Some(r);
         }
     }
+    // What the operating speed's line means depends on the speed it is compared with: where
+    // V_NL is below it, hunting is possible at the operating speed; where V_L or V_H is below
+    // it, the centred running is unstable there (and where they are above it, it is stable
+    // but a large enough disturbance may still start hunting).
     let threshold = spec.operating_speed.map(|v| {
         (
             v,
             format!(
-                "operating speed {v:.2} m/s ({:.0} km/h): stable above, hunts below",
+                "operating speed {:.0} km/h ({v:.2} m/s): hunting possible where V_NL < it",
                 v * 3.6
             ),
         )
     });
+    let threshold_for = |file: &str| {
+        spec.operating_speed.map(|v| {
+            let meaning = match file {
+                "nonlinear" => "V_NL below it: hunting possible; above: no hunting",
+                "kalker" => "V_L below it: unstable; above: stable, may hunt if disturbed",
+                _ => "V_H below it: unstable; above: stable, may hunt if disturbed",
+            };
+            (v, format!("{:.0} km/h ({v:.2} m/s): {meaning}", v * 3.6))
+        })
+    };
     // An axis with one value does not span a map: plot against the other one. The point ids
     // then run along the varying axis in order, so the line plot below applies unchanged.
     let varying: Vec<_> = spec.axes.iter().filter(|a| a.values.len() > 1).collect();
@@ -95,7 +109,7 @@ pub fn sweep_with_curves(
     picks(spec)
         .into_iter()
         .map(|(file, name, get)| {
-            let mut h = heat_map(study, spec, &by_id, name, get, threshold.clone());
+            let mut h = heat_map(study, spec, &by_id, name, get, threshold_for(file));
             h.above = above_range(&by_id, Computed::from_name(file));
             Rendered {
                 file: format!("sweep_map_{file}.svg"),
@@ -162,7 +176,7 @@ fn line_plot(
         .collect();
     if let Some(top) = above.first().map(|p| p.1) {
         f.series.push(Series {
-            name: format!("above range: stable to {top:.0} m/s (no onset in range)"),
+            name: format!("above range: no onset up to {top:.0} m/s"),
             points: above,
             style: Style::Above,
         });
@@ -365,7 +379,7 @@ mod tests {
         let mut rows: Vec<PointRecord> = (0..3).map(|i| row(i, Some(40.0 + i as f64))).collect();
         rows[1] = above(1);
         let line = svgs(sweep("t", &spec(1), &rows));
-        assert!(line[0].1.contains("above range: stable to 300 m/s"));
+        assert!(line[0].1.contains("above range: no onset up to 300 m/s"));
         assert!(!line[0].1.contains("failed point"));
         // on a map: one above-range cell, one failed, one absent (also failed)
         let mut rows: Vec<PointRecord> = (0..8).map(|i| row(i, Some(40.0 + i as f64))).collect();

@@ -1,5 +1,5 @@
 //! Plot-space geometry: gap splitting and clipping of polylines, and sampling
-//! of drawn content (used to keep the legend off the data).
+//! of segments with rectangles (used to keep the legend off the data).
 
 /// Axis-aligned rectangle `[x0, x1] × [y0, y1]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -20,6 +20,11 @@ impl Rect {
     pub fn overlaps(&self, o: &Rect) -> bool {
         self.x0 < o.x1 && o.x0 < self.x1 && self.y0 < o.y1 && o.y0 < self.y1
     }
+}
+
+/// Whether segment `a`–`b` meets the rectangle `r` (boundary included).
+pub(crate) fn segment_meets(r: &Rect, a: (f64, f64), b: (f64, f64)) -> bool {
+    clip_segment(r, a, b).is_some()
 }
 
 /// Liang–Barsky clipping of segment `a`–`b` to `r`.
@@ -99,28 +104,6 @@ where
     }
     flush(&mut runs, &mut cur);
     runs
-}
-
-/// Points along `run`, spaced at most `step` apart after mapping each point
-/// through `norm` (which should map the visible area to the unit square).
-pub(crate) fn sample_run(
-    run: &[(f64, f64)],
-    norm: impl Fn((f64, f64)) -> (f64, f64),
-    step: f64,
-    out: &mut Vec<(f64, f64)>,
-) {
-    for w in run.windows(2) {
-        let (a, b) = (norm(w[0]), norm(w[1]));
-        let len = (b.0 - a.0).hypot(b.1 - a.1);
-        let n = (len / step).ceil().clamp(1.0, 1000.0) as usize;
-        for i in 0..n {
-            let t = i as f64 / n as f64;
-            out.push((a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1)));
-        }
-    }
-    if let Some(last) = run.last() {
-        out.push(norm(*last));
-    }
 }
 
 #[cfg(test)]

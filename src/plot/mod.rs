@@ -10,6 +10,7 @@
 //! value × 10⁻³ = data value). Pass data in convenient units (mm, kN) to
 //! avoid the factor altogether.
 
+mod check;
 mod contour;
 mod contour_labels;
 mod geom;
@@ -27,6 +28,7 @@ mod svg;
 mod tests;
 mod tradeplot;
 
+pub use check::{legend_clashes, legend_count};
 pub use heatmap::{heat_map_svg, AboveRange, HeatMap, ABOVE_FILL};
 pub use note::{drawing, note_svg, Drawing};
 pub use tradeplot::{trade_svg, TradePlot, TradePoint};

@@ -1,7 +1,7 @@
 //! Reference lines with labels, the legend (placed away from the data) and
 //! colour bars.
 
-use super::geom::{sample_run, Rect};
+use super::geom::{segment_meets, Rect};
 use super::palette::{viridis, AXIS, MARKER, TEXT, WHITE};
 use super::panel::{font, Area, Chart, Metrics};
 use super::prepare::{Bar, Item, Mark, Prepared};
@@ -135,67 +135,114 @@ pub(crate) fn draw_labels(
     Ok(())
 }
 
-/// Pixel positions of everything drawn in the plot area (for legend placement).
-fn obstacles(p: &Prepared, pw: f64, ph: f64, step: f64) -> Vec<(f64, f64)> {
+/// Everything drawn in the plot area, in plot-area pixels, as segments (a point is a
+/// segment of zero length; the dot's radius is added by the caller's margin).
+fn obstacles(p: &Prepared, pw: f64, ph: f64) -> Vec<((f64, f64), (f64, f64))> {
     let to_px = |(x, y): (f64, f64)| (p.x.frac(x) * pw, (1.0 - p.y.frac(y)) * ph);
     let mut out = Vec::new();
+    let mut run = |r: &[(f64, f64)]| {
+        out.extend(r.windows(2).map(|w| (to_px(w[0]), to_px(w[1]))));
+    };
     for it in &p.items {
-        for run in &it.runs {
-            sample_run(run, to_px, step, &mut out);
+        for r in &it.runs {
+            run(r);
         }
-        out.extend(it.points.iter().map(|(pt, _)| to_px(*pt)));
+        if it.mark == Mark::Shade {
+            // a region's closing edge is drawn too (its fill is no mark)
+            if let (Some(a), Some(b)) = (
+                it.runs.first().and_then(|r| r.last()),
+                it.runs.first().and_then(|r| r.first()),
+            ) {
+                run(&[*a, *b]);
+            }
+        }
+        for (pt, _) in &it.points {
+            run(&[*pt, *pt]);
+        }
     }
     for (at, _) in &p.vlines {
-        sample_run(&[(*at, p.y.lo), (*at, p.y.hi)], to_px, step, &mut out);
+        run(&[(*at, p.y.lo), (*at, p.y.hi)]);
     }
     for (at, _) in &p.hlines {
-        sample_run(&[(p.x.lo, *at), (p.x.hi, *at)], to_px, step, &mut out);
+        run(&[(p.x.lo, *at), (p.x.hi, *at)]);
     }
     out
 }
 
-/// The legend's width and height (device units), if any series is named.
-pub(crate) fn legend_size(p: &Prepared, m: &Metrics) -> Option<(f64, f64)> {
-    let names: Vec<&str> = p
-        .items
-        .iter()
-        .map(|i| i.name.as_str())
-        .filter(|n| !n.is_empty())
-        .collect();
-    if names.is_empty() {
-        return None;
-    }
-    let text_w = names
-        .iter()
-        .map(|n| text_width(n, m.small))
-        .fold(0.0, f64::max);
-    let lw = text_w + LEGEND_SWATCH * m.u + 2.0 * LEGEND_PAD * m.u;
-    let lh = (names.len() - 1) as f64 * legend_pitch(m) + m.small + 2.0 * LEGEND_PAD * m.u;
-    Some((lw, lh))
+/// The legend's shape: entries top to bottom in `rows` rows, column after column, each
+/// column as wide as its widest entry (`col_x`: each column's left edge from the box's), and
+/// the whole box (device units).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct LegendShape {
+    pub rows: usize,
+    pub col_x: Vec<f64>,
+    pub w: f64,
+    pub h: f64,
 }
 
-/// The legend's padding and the width of its swatch column (before scaling).
+/// The legend's shape (if any series is named): one column, or the most columns that fit
+/// in `max_w` when given.
+pub(crate) fn legend_shape(p: &Prepared, m: &Metrics, max_w: Option<f64>) -> Option<LegendShape> {
+    let widths: Vec<f64> = p
+        .items
+        .iter()
+        .filter(|i| !i.name.is_empty())
+        .map(|i| text_width(&i.name, m.small) + LEGEND_SWATCH * m.u)
+        .collect();
+    if widths.is_empty() {
+        return None;
+    }
+    let (pad, gap) = (LEGEND_PAD * m.u, LEGEND_GAP * m.u);
+    let n = widths.len();
+    let shape = |cols: usize| {
+        let rows = n.div_ceil(cols);
+        let mut col_x = Vec::new();
+        let mut x = pad;
+        for col in widths.chunks(rows) {
+            col_x.push(x);
+            x += col.iter().copied().fold(0.0, f64::max) + gap;
+        }
+        let w = x - gap + pad;
+        let h = (rows - 1) as f64 * legend_pitch(m) + m.small + 2.0 * pad;
+        LegendShape { rows, col_x, w, h }
+    };
+    let one = shape(1);
+    Some(match max_w {
+        None => one,
+        Some(max_w) => (2..=n)
+            .map(shape)
+            .take_while(|s| s.w <= max_w)
+            .last()
+            .unwrap_or(one),
+    })
+}
+
+/// The legend's padding, the width of its swatch column and the gap between columns
+/// (before scaling).
 const LEGEND_PAD: f64 = 8.0;
 const LEGEND_SWATCH: f64 = 32.0;
+const LEGEND_GAP: f64 = 16.0;
 
 /// From one legend line to the next (device units).
 fn legend_pitch(m: &Metrics) -> f64 {
     1.55 * m.small
 }
 
-/// The legend's place inside the plot area (top-left corner, plot-area pixels) that covers
-/// the fewest data samples and no marker label, and how many data samples it covers there.
+/// The free place inside the plot area (top-left corner, plot-area pixels) for a legend of
+/// size `(lw, lh)`: a corner first, then the middle of an edge or just below the reference
+/// lines' labels, where it covers no data mark, reference line or label. `None` when every
+/// candidate covers something.
 pub(crate) fn legend_inside(
     chart: &Chart,
     p: &Prepared,
     labels: &[LabelBox],
     (lw, lh): (f64, f64),
     m: &Metrics,
-) -> ((f64, f64), usize) {
+) -> Option<(f64, f64)> {
     let (pw, ph) = chart.plotting_area().dim_in_pixel();
     let (pw, ph) = (f64::from(pw), f64::from(ph));
     let inset = m.px(8.0);
-    let samples = obstacles(p, pw, ph, m.px(4.0));
+    let segments = obstacles(p, pw, ph);
     let (right, bottom) = (pw - lw - inset, ph - lh - inset);
     let (mid_x, mid_y) = ((pw - lw) / 2.0, (ph - lh) / 2.0);
     // just below the reference lines' labels, which sit at the top of the plot
@@ -217,22 +264,22 @@ pub(crate) fn legend_inside(
         (right, mid_y),
         (inset, mid_y),
     ];
-    let e = m.px(3.0);
-    let hits = |&(x0, y0): &(f64, f64)| {
+    // the widest mark (a dot or a line) plus a little air
+    let e = f64::from(m.dot.max(m.line)) + m.px(3.0);
+    let free = |&(x0, y0): &(f64, f64)| {
         let r = Rect {
             x0: x0 - e,
             x1: x0 + lw + e,
             y0: y0 - e,
             y1: y0 + lh + e,
         };
-        let data = samples.iter().filter(|s| r.contains(**s)).count();
-        (labels.iter().filter(|b| b.rect.overlaps(&r)).count(), data)
+        x0 >= 0.0
+            && y0 >= 0.0
+            && y0 + lh <= ph
+            && !labels.iter().any(|b| b.rect.overlaps(&r))
+            && !segments.iter().any(|(a, b)| segment_meets(&r, *a, *b))
     };
-    candidates
-        .iter()
-        .map(|c| (*c, hits(c)))
-        .min_by_key(|(_, h)| *h)
-        .map_or(((inset, inset), 0), |(c, (_, data))| (c, data))
+    candidates.into_iter().find(free)
 }
 
 /// Horizontal space (device units) a legend of width `lw` takes right of the plot.
@@ -240,21 +287,21 @@ pub(crate) fn legend_outside_width(lw: f64, m: &Metrics) -> f64 {
     lw + m.px(12.0)
 }
 
-/// Draw the legend (if any series is named) with its top-left corner at `at` (plot-area
-/// pixels; right of the plot area when `at.0` is beyond its width).
+/// Draw the legend of shape `shape` with its top-left corner at `at` (plot-area pixels;
+/// right of the plot area when `at.0` is beyond its width, below it when `at.1` is beyond
+/// its height).
 ///
 /// Drawn here on the whole panel, not with plotters' series labels: those are clipped to
-/// the plot area, and a legend beside the plot lies outside it.
+/// the plot area, and a legend beside or below the plot lies outside it.
 pub(crate) fn draw_legend(
     area: &Area,
     chart: &Chart,
     p: &Prepared,
+    shape: &LegendShape,
     at: (f64, f64),
     m: &Metrics,
 ) -> Result<(), PlotError> {
-    let Some((lw, lh)) = legend_size(p, m) else {
-        return Ok(());
-    };
+    let (lw, lh) = (shape.w, shape.h);
     let (xr, yr) = chart.plotting_area().get_pixel_range();
     let (bx, by) = area.get_base_pixel();
     let x0 = f64::from(xr.start - bx) + at.0;
@@ -270,9 +317,11 @@ pub(crate) fn draw_legend(
         .pos(Pos::new(HPos::Left, VPos::Center));
     let named = p.items.iter().filter(|i| !i.name.is_empty());
     for (k, it) in named.enumerate() {
-        let y = (y0 + pad + 0.5 * m.small + k as f64 * legend_pitch(m)) as i32;
-        draw_swatch(area, it, ((x0 + pad) as i32, y), m)?;
-        let tx = (x0 + pad + LEGEND_SWATCH * m.u) as i32;
+        let (row, col) = (k % shape.rows, k / shape.rows);
+        let x = x0 + shape.col_x.get(col).copied().unwrap_or(pad);
+        let y = (y0 + pad + 0.5 * m.small + row as f64 * legend_pitch(m)) as i32;
+        draw_swatch(area, it, (x as i32, y), m)?;
+        let tx = (x + LEGEND_SWATCH * m.u) as i32;
         area.draw(&Text::new(it.name.as_str(), (tx, y), style.clone()))
             .map_err(backend_err)?;
     }

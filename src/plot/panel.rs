@@ -119,11 +119,13 @@ pub(crate) fn draw(area: &Area, p: &Prepared) -> Result<(), PlotError> {
     let ny = ((plot_h / (4.0 * m.tick)) as usize).clamp(3, 8);
     let yd = tick_decimals(&p.y.ticks(ny));
     let y_area = m.px(18.0) + widest(&p.y.ticks(ny), yd, m.tick) + 1.2 * m.label;
-    let build = |right: f64| {
+    // `right` and `below`: room for colour bars and a legend beside or below the plot
+    let build = |right: f64, below: f64| {
         ChartBuilder::on(area)
             .margin(m.margin as u32)
             .margin_top((m.margin + title_h) as u32)
             .margin_right((m.margin + right) as u32)
+            .margin_bottom((m.margin + below) as u32)
             .x_label_area_size(x_area as u32)
             .y_label_area_size(y_area as u32)
             .build_cartesian_2d(p.x.lo..p.x.hi, p.y.lo..p.y.hi)
@@ -145,28 +147,41 @@ pub(crate) fn draw(area: &Area, p: &Prepared) -> Result<(), PlotError> {
     };
     let plot_w = w - 2.0 * m.margin - y_area - bar_space;
     let (nx, xd) = x_ticks(&p.x, plot_w, &m);
-    let mut chart = build(bar_space.max(overhang(nx, xd)))?;
+    let mut chart = build(bar_space.max(overhang(nx, xd)), 0.0)?;
     let mut labels = overlay::layout_labels(&chart, p, &m);
-    // The legend goes inside the plot where it covers no data; where every place inside
-    // covers some, right of the plot (and of the colour bars) if that leaves the plot at
-    // least half the width and the legend fits its height.
-    let legend = overlay::legend_size(p, &m).map(|size| {
-        let inside = overlay::legend_inside(&chart, p, &labels, size, &m);
-        (size, inside)
-    });
-    let mut legend_at = legend.map(|(_, (at, _))| at);
+    // The legend goes inside the plot where a place is free of data marks, reference lines
+    // and labels; else right of the plot (and of the colour bars) if that leaves the plot at
+    // least half the width and the legend fits its height; else below the plot, in as many
+    // columns as fit. It never covers data.
+    let shape = overlay::legend_shape(p, &m, None);
+    let mut legend = None;
     let (mut nx, mut xd) = (nx, xd);
-    if let Some(((lw, lh), (_, covered))) = legend {
-        let outside = overlay::legend_outside_width(lw, &m);
+    if let Some(one) = shape.clone() {
         let (_, ph) = chart.plotting_area().dim_in_pixel();
-        if covered > 0 && plot_w - outside >= 0.5 * (w - 2.0 * m.margin) && lh <= f64::from(ph) {
+        let outside = overlay::legend_outside_width(one.w, &m);
+        if let Some(at) = overlay::legend_inside(&chart, p, &labels, (one.w, one.h), &m) {
+            legend = Some((one, at));
+        } else if plot_w - outside >= 0.5 * (w - 2.0 * m.margin) && one.h <= f64::from(ph) {
             (nx, xd) = x_ticks(&p.x, plot_w - outside, &m);
-            chart = build((bar_space + outside).max(overhang(nx, xd)))?;
+            chart = build((bar_space + outside).max(overhang(nx, xd)), 0.0)?;
             labels = overlay::layout_labels(&chart, p, &m);
             let (pw, _) = chart.plotting_area().dim_in_pixel();
-            legend_at = Some((f64::from(pw) + bar_space + m.px(12.0), 0.0));
+            legend = Some((one, (f64::from(pw) + bar_space + m.px(12.0), 0.0)));
+        } else if let Some(wide) = overlay::legend_shape(p, &m, Some(w - 2.0 * m.margin)) {
+            let gap = m.px(10.0);
+            chart = build(bar_space.max(overhang(nx, xd)), wide.h + gap)?;
+            labels = overlay::layout_labels(&chart, p, &m);
+            let (pw, ph) = chart.plotting_area().dim_in_pixel();
+            let left = 0.5 * (f64::from(pw) - wide.w);
+            let top = f64::from(ph) + x_area + gap;
+            legend = Some((wide, (left, top)));
         }
     }
+    // The axis titles shrink (to 70 % at most) where the y title is longer than the plot is
+    // high, e.g. above a legend below the plot.
+    let (_, ph) = chart.plotting_area().dim_in_pixel();
+    let desc_px =
+        m.label * (f64::from(ph) / text_width(&p.y_title, m.label).max(1.0)).clamp(0.7, 1.0);
     let fx = move |v: &f64| format_tick(*v, xd);
     let fy = move |v: &f64| format_tick(*v, yd);
     chart
@@ -178,7 +193,7 @@ pub(crate) fn draw(area: &Area, p: &Prepared) -> Result<(), PlotError> {
         .axis_style(AXIS.stroke_width(m.thin))
         .set_all_tick_mark_size(m.px(5.0) as i32)
         .label_style(font(m.tick).color(&TEXT))
-        .axis_desc_style(font(m.label).color(&TEXT))
+        .axis_desc_style(font(desc_px).color(&TEXT))
         .x_label_formatter(&fx)
         .y_label_formatter(&fy)
         .x_desc(p.x_title.as_str())
@@ -196,8 +211,8 @@ pub(crate) fn draw(area: &Area, p: &Prepared) -> Result<(), PlotError> {
     );
     chart.plotting_area().draw(&frame).map_err(backend_err)?;
     overlay::draw_labels(&chart, &labels, &m)?;
-    if let Some(at) = legend_at {
-        overlay::draw_legend(area, &chart, p, at, &m)?;
+    if let Some((shape, at)) = legend {
+        overlay::draw_legend(area, &chart, p, &shape, at, &m)?;
     }
     overlay::draw_bars(area, &chart, &bars, &m)?;
     draw_title(area, &chart, &p.title, title_px, &m)

@@ -291,6 +291,14 @@ fn text_x(svg: &str, label: &str) -> Option<f64> {
     })
 }
 
+fn text_y(svg: &str, label: &str) -> Option<f64> {
+    let lines: Vec<&str> = svg.lines().collect();
+    lines.windows(2).find_map(|w| {
+        let y = w[0].split(" y=\"").nth(1)?.split('"').next()?;
+        (w[1].trim() == label).then(|| y.parse().ok())?
+    })
+}
+
 #[test]
 fn log_x_axis_places_ticks_by_their_logarithm() {
     // 1e5 … 3e6 on a log axis: ticks 1e5, 2e5, 5e5, 1e6, 2e6; the gap 1e5 → 2e5 is log10(2)
@@ -361,4 +369,54 @@ fn the_legend_goes_beside_the_plot_only_when_every_place_inside_covers_data() {
         plot_right(&svg),
     );
     assert!(x > right, "legend at {x}, plot ends at {right}");
+}
+
+/// Where neither a place inside nor beside will do (data everywhere, names so long that a
+/// legend beside would leave the plot less than half the width), the legend goes below the
+/// plot in columns, each as wide as its widest entry, and hides nothing.
+#[test]
+fn the_legend_goes_below_the_plot_in_columns_when_beside_would_squeeze_it() {
+    let grid: Vec<(f64, f64)> = (0..=40)
+        .flat_map(|i| (0..=40).map(move |j| (f64::from(i) / 40.0, f64::from(j) / 40.0)))
+        .collect();
+    let long =
+        "a series whose name is long enough to take more than half of the width of the figure";
+    let mut series = vec![Series {
+        name: long.into(),
+        points: grid,
+        style: Style::Points,
+    }];
+    for k in 0..5 {
+        series.push(line(
+            &format!("short {k}"),
+            vec![(0.0, 0.0), (1.0, 1.0)],
+            false,
+        ));
+    }
+    let f = Figure {
+        title: "legend below".into(),
+        x_label: "x (m)".into(),
+        y_label: "y (m)".into(),
+        series,
+        x_range: Some((0.0, 1.0)),
+        y_range: Some((0.0, 1.0)),
+        ..Figure::default()
+    };
+    let svg = render_svg(&f, 1000, 640).expect("renders");
+    assert!(
+        super::legend_clashes(&svg).is_empty(),
+        "{:?}",
+        super::legend_clashes(&svg)
+    );
+    assert_eq!(super::legend_count(&svg), 1);
+    // below the plot: under the x-axis title
+    let axis_title_y = text_y(&svg, "x (m)").expect("x title");
+    let long_y = text_y(&svg, long).expect("legend entry");
+    assert!(long_y > axis_title_y, "{long_y} vs {axis_title_y}");
+    // two columns: the long name's column, then the short ones beside it
+    let (x_long, x_short) = (
+        text_x(&svg, long).expect("entry"),
+        text_x(&svg, "short 4").expect("entry"),
+    );
+    assert!(x_short > x_long, "{x_short} {x_long}");
 }

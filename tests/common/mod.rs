@@ -75,3 +75,40 @@ pub fn excursion_after_150_s<const N: usize>(
         .map(|&d| high[d].abs().max(low[d].abs()))
         .fold(0.0, f64::max)
 }
+
+/// Every `.svg` under `dir` (recursively), after asserting that no legend box in it hides a
+/// data mark, a reference line's label or a text (`critspeed::plot::legend_clashes`, which
+/// reads the SVG as drawn). Returns the files and how many legend boxes were checked.
+pub fn assert_legends_free(dir: &Path) -> (Vec<PathBuf>, usize) {
+    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+        for e in std::fs::read_dir(dir).expect("a folder").flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                walk(&p, out);
+            } else if p.extension().is_some_and(|x| x == "svg") {
+                out.push(p);
+            }
+        }
+    }
+    let mut files = Vec::new();
+    walk(dir, &mut files);
+    files.sort();
+    let mut legends = 0;
+    for f in &files {
+        let svg = std::fs::read_to_string(f).expect("svg text");
+        assert_legend_free(&svg, &f.display().to_string());
+        legends += critspeed::plot::legend_count(&svg);
+    }
+    (files, legends)
+}
+
+/// Asserts that no legend box of `svg` (named `what` in the message) hides anything.
+pub fn assert_legend_free(svg: &str, what: &str) {
+    let clashes = critspeed::plot::legend_clashes(svg);
+    assert!(
+        clashes.is_empty(),
+        "{what}: {} clash(es), first {:?}",
+        clashes.len(),
+        clashes.iter().take(3).collect::<Vec<_>>()
+    );
+}
