@@ -478,28 +478,39 @@ fn bifurcation_figure(r: &crate::bifurcation::BifurcationReport) -> Figure {
     fig
 }
 
-/// `simulate.svg`: y(t) and ψ(t) for each speed, and the y–ẏ phase portrait.
+/// `simulate.svg`: y(t) and ψ(t) for each speed, and the y–ẏ phase portrait, of the wheelset
+/// that hunts most at that speed (the largest |y| over the second half of the run: the
+/// amplitude the summary prints and the diagrams plot), named in the legend on a vehicle.
 pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> Rendered {
-    let mut y = figure(
-        &format!("{study}: lateral displacement"),
-        "time t (s)",
-        "y (mm)",
-    );
+    let vehicle = runs.iter().any(|h| h.largest_wheelset().3.is_some());
+    let what = if vehicle {
+        "lateral displacement of the wheelset that hunts most"
+    } else {
+        "lateral displacement"
+    };
+    let mut y = figure(&format!("{study}: {what}"), "time t (s)", "y (mm)");
     let mut psi = figure("yaw angle", "time t (s)", "ψ (mrad)");
     let mut phase = figure("phase portrait", "y (mm)", "dy/dt (mm/s)");
     for h in runs {
-        let name = format!("{:.1} m/s", h.speed_m_s);
+        let (iy, ipsi, iyd, wheelset) = h.largest_wheelset();
+        let name = match wheelset {
+            Some(w) => format!("{:.1} m/s, {w}", h.speed_m_s),
+            None => format!("{:.1} m/s", h.speed_m_s),
+        };
+        let at = |x: &Vec<f64>, k: usize| x.get(k).copied().unwrap_or(f64::NAN);
         let pts = |k: usize, scale: f64| -> Vec<(f64, f64)> {
             h.t.iter()
                 .zip(&h.x)
-                .map(|(t, x)| (*t, x[k] * scale))
+                .map(|(t, x)| (*t, at(x, k) * scale))
                 .collect()
         };
-        y.series.push(line(&name, pts(0, 1e3), false));
-        psi.series.push(line(&name, pts(1, 1e3), false));
+        y.series.push(line(&name, pts(iy, 1e3), false));
+        psi.series.push(line(&name, pts(ipsi, 1e3), false));
         phase.series.push(line(
             &name,
-            h.x.iter().map(|x| (x[0] * 1e3, x[2] * 1e3)).collect(),
+            h.x.iter()
+                .map(|x| (at(x, iy) * 1e3, at(x, iyd) * 1e3))
+                .collect(),
             false,
         ));
     }

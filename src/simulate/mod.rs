@@ -137,6 +137,37 @@ pub struct TimeHistory {
 }
 
 impl TimeHistory {
+    /// The wheelset that hunts most over the second half of the run (largest |y|): the
+    /// indices of its y, ψ and ẏ in the state, and its name (`None` for a single wheelset,
+    /// whose y, ψ, ẏ are the first three states).
+    pub fn largest_wheelset(&self) -> (usize, usize, usize, Option<String>) {
+        let index = |name: &str| self.state_names.iter().position(|n| n == name);
+        let half = &self.x[self.x.len() / 2..];
+        let mut best: Option<(f64, (usize, usize, usize, Option<String>))> = None;
+        for (i, n) in self.state_names.iter().enumerate() {
+            let Some(k) = n
+                .strip_prefix("y_wheelset_")
+                .and_then(|r| r.strip_suffix("_m"))
+            else {
+                continue;
+            };
+            let (Some(psi), Some(ydot)) = (
+                index(&format!("psi_wheelset_{k}_rad")),
+                index(&format!("ydot_wheelset_{k}_m_s")),
+            ) else {
+                continue;
+            };
+            let a = half
+                .iter()
+                .filter_map(|x| x.get(i))
+                .fold(0.0, |m: f64, v| m.max(v.abs()));
+            if best.as_ref().is_none_or(|(b, _)| a > *b) {
+                best = Some((a, (i, psi, ydot, Some(format!("wheelset {k}")))));
+            }
+        }
+        best.map_or((0, 1, 2, None), |(_, w)| w)
+    }
+
     /// Largest |y| of the leading wheelset over the last `fraction` of the run (m): the
     /// settled amplitude.
     pub fn final_amplitude(&self, fraction: f64) -> f64 {
@@ -292,3 +323,44 @@ mod ramp;
 
 pub use en14363::*;
 pub use ramp::*;
+
+#[cfg(test)]
+mod largest_wheelset_tests {
+    use super::TimeHistory;
+
+    /// Two wheelsets, the second hunting at 4 mm and the first at 0.3 mm over the second half
+    /// (the first larger at the start): the second is picked, with its own ψ and ẏ.
+    #[test]
+    fn the_wheelset_that_hunts_most_late_in_the_run_is_picked() {
+        let names = [
+            "y_wheelset_1_m",
+            "psi_wheelset_1_rad",
+            "y_wheelset_2_m",
+            "psi_wheelset_2_rad",
+            "ydot_wheelset_1_m_s",
+            "psidot_wheelset_1_rad_s",
+            "ydot_wheelset_2_m_s",
+            "psidot_wheelset_2_rad_s",
+        ];
+        let t: Vec<f64> = (0..100).map(|k| f64::from(k) * 0.01).collect();
+        let x: Vec<Vec<f64>> = t
+            .iter()
+            .map(|&t| {
+                let first = if t < 0.5 { 9e-3 } else { 3e-4 };
+                vec![first, 0.0, 4e-3 * (t * 30.0).sin(), 0.0, 0.0, 0.0, 0.1, 0.0]
+            })
+            .collect();
+        let h = TimeHistory {
+            speed_m_s: 100.0,
+            t,
+            x,
+            state_names: names.iter().map(|s| s.to_string()).collect(),
+        };
+        assert_eq!(h.largest_wheelset(), (2, 3, 6, Some("wheelset 2".into())));
+        let single = TimeHistory {
+            state_names: vec!["y_m".into(), "psi_rad".into(), "ydot_m_s".into()],
+            ..h
+        };
+        assert_eq!(single.largest_wheelset(), (0, 1, 2, None));
+    }
+}
