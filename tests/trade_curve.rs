@@ -373,7 +373,7 @@ fn the_cars_trade_settles_its_disagreement_by_simulating_the_fold_cycle() {
     );
     assert!(alive > 1e-3, "at {hi} m/s: {alive} m");
     assert!(gone < 1e-4, "at {} m/s: {gone} m", hi - 2.0);
-    // the trade's pictures (trade.svg, the curves, the verification's diagram) hide no data
+    // the trade's picture (trade.svg, its only one) hides no data under its legend
     let (files, legends) = common::assert_legends_free(&dir);
-    assert!(files.len() >= 2 && legends >= 1, "{files:?} {legends}");
+    assert!(!files.is_empty() && legends >= 1, "{files:?} {legends}");
 }
