@@ -482,7 +482,7 @@ fn bifurcation_figure(r: &crate::bifurcation::BifurcationReport) -> Figure {
 /// that hunts most at that speed (the largest |y| over the second half of the run: the
 /// amplitude the summary prints and the diagrams plot), named in the legend on a vehicle.
 pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> Rendered {
-    let vehicle = runs.iter().any(|h| h.largest_wheelset().3.is_some());
+    let vehicle = runs.iter().any(|h| h.largest_wheelset().name.is_some());
     let what = if vehicle {
         "lateral displacement of the wheelset that hunts most"
     } else {
@@ -492,8 +492,9 @@ pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> Rendered 
     let mut psi = figure("yaw angle", "time t (s)", "ψ (mrad)");
     let mut phase = figure("phase portrait", "y (mm)", "dy/dt (mm/s)");
     for h in runs {
-        let (iy, ipsi, iyd, wheelset) = h.largest_wheelset();
-        let name = match wheelset {
+        let w = h.largest_wheelset();
+        let (iy, ipsi, iyd) = (w.y, w.psi, w.ydot);
+        let name = match w.name {
             Some(w) => format!("{:.1} m/s, {w}", h.speed_m_s),
             None => format!("{:.1} m/s", h.speed_m_s),
         };

@@ -136,14 +136,27 @@ pub struct TimeHistory {
     pub state_names: Vec<String>,
 }
 
+/// Where one wheelset's coordinates are in a [`TimeHistory`]'s states.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WheelsetColumns {
+    /// index of its lateral displacement y (m)
+    pub y: usize,
+    /// index of its yaw ψ (rad)
+    pub psi: usize,
+    /// index of its lateral velocity ẏ (m/s)
+    pub ydot: usize,
+    /// its name ("wheelset 3") on a vehicle; `None` for a single wheelset
+    pub name: Option<String>,
+}
+
 impl TimeHistory {
-    /// The wheelset that hunts most over the second half of the run (largest |y|): the
-    /// indices of its y, ψ and ẏ in the state, and its name (`None` for a single wheelset,
-    /// whose y, ψ, ẏ are the first three states).
-    pub fn largest_wheelset(&self) -> (usize, usize, usize, Option<String>) {
+    /// The wheelset that hunts most over the second half of the run (largest |y|): where its
+    /// y, ψ and ẏ are in the state, and its name (`None` for a single wheelset, whose y, ψ, ẏ
+    /// are the first three states).
+    pub fn largest_wheelset(&self) -> WheelsetColumns {
         let index = |name: &str| self.state_names.iter().position(|n| n == name);
         let half = &self.x[self.x.len() / 2..];
-        let mut best: Option<(f64, (usize, usize, usize, Option<String>))> = None;
+        let mut best: Option<(f64, WheelsetColumns)> = None;
         for (i, n) in self.state_names.iter().enumerate() {
             let Some(k) = n
                 .strip_prefix("y_wheelset_")
@@ -162,10 +175,27 @@ impl TimeHistory {
                 .filter_map(|x| x.get(i))
                 .fold(0.0, |m: f64, v| m.max(v.abs()));
             if best.as_ref().is_none_or(|(b, _)| a > *b) {
-                best = Some((a, (i, psi, ydot, Some(format!("wheelset {k}")))));
+                let name = Some(format!("wheelset {k}"));
+                best = Some((
+                    a,
+                    WheelsetColumns {
+                        y: i,
+                        psi,
+                        ydot,
+                        name,
+                    },
+                ));
             }
         }
-        best.map_or((0, 1, 2, None), |(_, w)| w)
+        best.map_or(
+            WheelsetColumns {
+                y: 0,
+                psi: 1,
+                ydot: 2,
+                name: None,
+            },
+            |(_, w)| w,
+        )
     }
 
     /// Largest |y| of the leading wheelset over the last `fraction` of the run (m): the
@@ -356,11 +386,14 @@ mod largest_wheelset_tests {
             x,
             state_names: names.iter().map(|s| s.to_string()).collect(),
         };
-        assert_eq!(h.largest_wheelset(), (2, 3, 6, Some("wheelset 2".into())));
+        let w = h.largest_wheelset();
+        assert_eq!((w.y, w.psi, w.ydot), (2, 3, 6));
+        assert_eq!(w.name.as_deref(), Some("wheelset 2"));
         let single = TimeHistory {
             state_names: vec!["y_m".into(), "psi_rad".into(), "ydot_m_s".into()],
             ..h
         };
-        assert_eq!(single.largest_wheelset(), (0, 1, 2, None));
+        let w = single.largest_wheelset();
+        assert_eq!((w.y, w.psi, w.ydot, w.name), (0, 1, 2, None));
     }
 }
