@@ -143,7 +143,7 @@ fn csv_plot_summary_and_shards_show_above_range() {
     }
     let svg = std::fs::read_to_string(dir.join("w/above/sweep.svg")).expect("sweep.svg");
     assert!(
-        svg.contains(&format!("above range: stable to {v_max:.0} m/s")),
+        svg.contains(&format!("above range: no onset up to {v_max:.0} m/s")),
         "legend entry"
     );
     assert!(!svg.contains("failed point"));
