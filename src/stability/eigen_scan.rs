@@ -1,12 +1,11 @@
-//! The critical-speed search for any number of states: eigenvalues on a grid, then Newton on
-//! the Hopf system from the pair that crossed (module docs of [`super`]).
+//! The critical-speed search for any number of states: eigenvalues on a grid, then Brent's
+//! method on the real part of the eigenvalue that crossed (module docs of [`super`]).
 
 use super::spectrum::{determinant, eigenvalues, spectrum_at, EigenPair};
 use super::{
     brent, hopf, CriticalSpeeds, Crossing, Direction, LinearError, LinearOptions, LinearSystem,
 };
 use crate::contact::creep::CreepLaw;
-use rayon::prelude::*;
 
 /// The eigenvalue of `ev` (Im > 0) nearest to `target`.
 fn nearest(ev: &[(f64, f64)], target: (f64, f64)) -> Option<(f64, f64)> {
@@ -71,18 +70,6 @@ struct End {
     det_sign: f64,
 }
 
-/// The end at speed `v`: eigenvalues of J(v) and what the scan reads from them.
-fn end_at<const N: usize>(sys: &LinearSystem<N>, v: f64) -> Result<End, LinearError> {
-    let ev = eigenvalues(&sys.jacobian(v)).ok_or(LinearError::NotFinite { speed_m_s: v })?;
-    Ok(End {
-        v,
-        count: unstable(&ev),
-        top: top(&ev),
-        det_sign: det_sign(&ev),
-        ev,
-    })
-}
-
 struct Scan<'a, const N: usize> {
     sys: &'a LinearSystem<N>,
     opts: &'a LinearOptions,
@@ -93,134 +80,67 @@ struct Scan<'a, const N: usize> {
 impl<const N: usize> Scan<'_, N> {
     fn end(&mut self, v: f64) -> Result<End, LinearError> {
         self.evaluations += 1;
-        end_at(self.sys, v)
+        let ev =
+            eigenvalues(&self.sys.jacobian(v)).ok_or(LinearError::NotFinite { speed_m_s: v })?;
+        Ok(End {
+            v,
+            count: unstable(&ev),
+            top: top(&ev),
+            det_sign: det_sign(&ev),
+            ev,
+        })
     }
 
-    /// The ends at `speeds`, computed in parallel (rayon): the grid's eigenvalue
-    /// decompositions are independent and are most of the search's time (64 of them against a
-    /// few Newton LUs a crossing), so on two cores the search takes about half the time. The
-    /// first error in speed order is returned, as a serial loop would.
-    fn ends(&mut self, speeds: &[f64]) -> Result<Vec<End>, LinearError> {
-        self.evaluations += speeds.len();
+    /// The crossings between `lo` and `hi` by Newton on the Hopf system ([`hopf::newton`])
+    /// from the complex eigenpairs nearest the axis at the interval's midpoint (as many as the
+    /// count changed, and two more); each root is re-checked by fresh eigenvalues 1e-6 V
+    /// either side, which also give its direction. `false` (nothing recorded) unless the
+    /// roots' directions add up to the change of the unstable count, and there are roots:
+    /// then the caller falls back to bisection. `exchanged` ([`exchanged`]) widens the search
+    /// when pairs crossed in both directions.
+    fn by_newton(&mut self, lo: &End, hi: &End, exchanged: usize) -> bool {
+        let change = hi.count as i64 - lo.count as i64;
         let sys = self.sys;
-        let ends: Vec<Result<End, LinearError>> =
-            speeds.par_iter().map(|&v| end_at(sys, v)).collect();
-        ends.into_iter().collect()
-    }
-
-    /// The crossings between `lo` and `hi` by Newton on the Hopf system ([`hopf::newton`]),
-    /// without another eigenvalue decomposition: each complex eigenvalue (Im > 0) at one end
-    /// whose nearest one at the other end lies on the other side of the axis is a pair that
-    /// crossed; the straight line between the two predicts the crossing's speed and eigenvalue,
-    /// inverse iteration there gives the eigenvector ([`hopf::eigenvector`]), and Newton
-    /// converges in a few LUs of size N + 1. Each root must lie in the interval, be new, and
-    /// cross the way its prediction does (its direction is the sign of dRe λ/dV, which the last
-    /// Newton step gives). `false` (nothing recorded) unless the roots' directions add up to the
-    /// change of the unstable count, there are roots, and as many as `exchanged` pairs were
-    /// seen crossing: then the caller tries [`Self::by_newton_at_midpoint`].
-    fn by_prediction(&mut self, lo: &End, hi: &End, exchanged: usize) -> bool {
-        let change = hi.count as i64 - lo.count as i64;
-        let mut matched: Vec<((f64, f64), (f64, f64))> = Vec::new();
-        let sides_differ = |a: &(f64, f64), b: &(f64, f64)| (a.0 > 0.0) != (b.0 > 0.0);
-        for z in lo.ev.iter().filter(|z| z.1 > 0.0) {
-            if let Some(w) = nearest(&hi.ev, *z) {
-                if sides_differ(z, &w) && !matched.contains(&(*z, w)) {
-                    matched.push((*z, w));
-                }
-            }
-        }
-        for w in hi.ev.iter().filter(|w| w.1 > 0.0) {
-            if let Some(z) = nearest(&lo.ev, *w) {
-                if sides_differ(&z, w) && !matched.contains(&(z, *w)) {
-                    matched.push((z, *w));
-                }
-            }
-        }
-        if matched.is_empty() {
-            return false;
-        }
-        let mut found: Vec<Crossing> = Vec::new();
-        for (z, w) in matched {
-            // where the straight line from z (at lo) to w (at hi) meets the axis
-            let t = z.0 / (z.0 - w.0);
-            let v = lo.v + t * (hi.v - lo.v);
-            let shift = (z.0 + t * (w.0 - z.0), z.1 + t * (w.1 - z.1));
-            let Some(vector) = hopf::eigenvector(self.sys, v, shift) else {
-                continue;
-            };
-            self.try_start(
-                (lo.v, hi.v),
-                v,
-                shift.1,
-                &vector,
-                Some(w.0 > 0.0),
-                &mut found,
-            );
-        }
-        self.record(found, change, exchanged)
-    }
-
-    /// Newton on the Hopf system from the complex eigenpairs nearest the axis at the
-    /// interval's midpoint (one full eigen-decomposition with vectors; as many as the count
-    /// changed or pairs were exchanged, and two more): the second try when the prediction from
-    /// the ends ([`Self::by_prediction`]) does not account for the interval. `false` as there;
-    /// then the caller falls back to bisection.
-    fn by_newton_at_midpoint(&mut self, lo: &End, hi: &End, exchanged: usize) -> bool {
-        let change = hi.count as i64 - lo.count as i64;
         let mid = 0.5 * (lo.v + hi.v);
         self.evaluations += 1;
-        let Some(sp) = spectrum_at(&self.sys.jacobian(mid), mid) else {
+        let Some(sp) = spectrum_at(&sys.jacobian(mid), mid) else {
             return false;
         };
         let mut candidates: Vec<&EigenPair> = sp.pairs.iter().filter(|p| p.im > 0.0).collect();
         candidates.sort_by(|p, q| p.re.abs().total_cmp(&q.re.abs()));
+        let tol = self.opts.rel_tol.max(1e-14);
         let mut found: Vec<Crossing> = Vec::new();
         let wanted = (change.unsigned_abs() as usize).max(exchanged) + 2;
         for p in candidates.iter().take(wanted) {
-            self.try_start((lo.v, hi.v), mid, p.im, &p.vector, None, &mut found);
+            let Some(h) = hopf::newton(sys, mid, p.im, &p.vector, tol) else {
+                continue;
+            };
+            let f_hz = h.omega / (2.0 * std::f64::consts::PI);
+            let seen = found.iter().any(|c| {
+                (c.speed_m_s - h.speed).abs() <= 1e-9 * h.speed
+                    && (c.frequency_hz - f_hz).abs() <= 1e-6 * f_hz
+            });
+            if seen || h.speed < lo.v || h.speed > hi.v {
+                continue;
+            }
+            let delta = 1e-6 * h.speed;
+            let side = |v: f64| {
+                eigenvalues(&sys.jacobian(v))
+                    .and_then(|ev| nearest(&ev, (0.0, h.omega)))
+                    .map_or(f64::NAN, |z| z.0)
+            };
+            let (below, above) = (side(h.speed - delta), side(h.speed + delta));
+            self.evaluations += 2;
+            if below.is_nan() || above.is_nan() || below.signum() == above.signum() {
+                continue;
+            }
+            found.push(Crossing::new(
+                h.speed,
+                h.omega,
+                above > 0.0,
+                2.0 * h.last_step,
+            ));
         }
-        self.record(found, change, exchanged)
-    }
-
-    /// Newton on the Hopf system from speed `v`, frequency `omega` and eigenvector `vector`;
-    /// the root is added to `found` if it lies in the interval `[lo, hi]`, is not there yet,
-    /// crosses transversally, and (if `onset` is given) in that direction.
-    fn try_start(
-        &self,
-        (lo, hi): (f64, f64),
-        v: f64,
-        omega: f64,
-        vector: &[(f64, f64)],
-        onset: Option<bool>,
-        found: &mut Vec<Crossing>,
-    ) {
-        let tol = self.opts.rel_tol.max(1e-14);
-        // the search is local: a start that leaves the interval by a whole width is abandoned
-        let width = hi - lo;
-        let bounds = ((lo - width).max(0.5 * lo), hi + width);
-        let Some(h) = hopf::newton(self.sys, v, omega, vector, tol, bounds) else {
-            return;
-        };
-        let f_hz = h.omega / (2.0 * std::f64::consts::PI);
-        let seen = found.iter().any(|c| {
-            (c.speed_m_s - h.speed).abs() <= 1e-9 * h.speed
-                && (c.frequency_hz - f_hz).abs() <= 1e-6 * f_hz
-        });
-        let growing = h.growth > 0.0;
-        if seen
-            || h.speed < lo
-            || h.speed > hi
-            || !(h.growth != 0.0 && h.growth.is_finite())
-            || onset.is_some_and(|o| o != growing)
-        {
-            return;
-        }
-        found.push(Crossing::new(h.speed, h.omega, growing, 2.0 * h.last_step));
-    }
-
-    /// Records `found` if its directions add up to `change`, it is not empty and holds at
-    /// least `exchanged` crossings; `false` (nothing recorded) otherwise.
-    fn record(&mut self, found: Vec<Crossing>, change: i64, exchanged: usize) -> bool {
         let net: i64 = found
             .iter()
             .map(|c| match c.direction {
@@ -228,7 +148,7 @@ impl<const N: usize> Scan<'_, N> {
                 Direction::Recovery => -1,
             })
             .sum();
-        if net != change || found.is_empty() || found.len() < exchanged {
+        if net != change || found.is_empty() {
             return false;
         }
         self.crossings.extend(found);
@@ -393,14 +313,11 @@ fn refine_turns(ends: &[End]) -> Vec<f64> {
 
 /// Every crossing of the imaginary axis by a complex pair, for any state size: the count of
 /// unstable complex eigenvalues on the grid (refined where the least damped pair turns near
-/// the axis, [`refine_turns`]). Where the count changes between two grid speeds, or pairs were
-/// exchanged ([`exchanged`]), the crossings are located by Newton on the Hopf system
-/// ([`hopf::newton`]) from the pairs that changed sides ([`Scan::by_prediction`]), else from
-/// the pairs nearest the axis at the midpoint ([`Scan::by_newton_at_midpoint`]); should their
-/// directions still not account for the change, the interval is bisected on the count until
-/// each part holds one crossing (two bogies give pairs crossing fractions of a m/s apart),
-/// which is then located by Brent's method on the tracked eigenvalue. Two crossings in
-/// opposite directions within one
+/// the axis, [`refine_turns`]). Where the count changes between two grid speeds the crossings
+/// are located by Newton on the Hopf system ([`hopf::newton`]); should their directions not
+/// account for the change, the interval is bisected on the count until each part holds one
+/// crossing (two bogies give pairs crossing fractions of a m/s apart), which is then located
+/// by Brent's method on the tracked eigenvalue. Two crossings in opposite directions within one
 /// grid step that the turn test misses cancel in the count and are not seen (as in the quartic
 /// scan).
 pub(super) fn eigen_scan<const N: usize>(
@@ -417,11 +334,14 @@ pub(super) fn eigen_scan<const N: usize>(
         evaluations: 0,
         crossings: Vec::new(),
     };
-    let speeds: Vec<f64> = (0..n).map(speed).collect();
-    let mut ends = scan.ends(&speeds)?;
+    let mut ends = (0..n)
+        .map(|i| scan.end(speed(i)))
+        .collect::<Result<Vec<End>, LinearError>>()?;
     let extra = refine_turns(&ends);
     if !extra.is_empty() {
-        ends.extend(scan.ends(&extra)?);
+        for v in extra {
+            ends.push(scan.end(v)?);
+        }
         ends.sort_by(|a, b| a.v.total_cmp(&b.v));
     }
     let stable_at_start = ends[0].ev.iter().all(|z| z.0 < 0.0);
@@ -429,10 +349,7 @@ pub(super) fn eigen_scan<const N: usize>(
     for w in ends.windows(2) {
         let (prev, cur) = (&w[0], &w[1]);
         let swapped = exchanged(prev, cur);
-        if (prev.count != cur.count || swapped > 0)
-            && !scan.by_prediction(prev, cur, swapped)
-            && !scan.by_newton_at_midpoint(prev, cur, swapped)
-        {
+        if (prev.count != cur.count || swapped > 0) && !scan.by_newton(prev, cur, swapped) {
             scan.interval(prev, cur, 0)?;
         }
         if prev.det_sign != cur.det_sign {

@@ -20,16 +20,12 @@
 //! on a grid ([`EIGEN_GRID_POINTS`] speeds by default, refined where the least damped pair
 //! turns above the axis between grid speeds) and looks at every grid step where the count of
 //! unstable complex eigenvalues changes, or where an unstable pair's nearest neighbour at the
-//! other end is stable (one mode recovering while another sets in). The grid's eigenvalue
-//! decompositions are independent and run in parallel. The crossings are located by Newton's
-//! method on the Hopf system $J(V)v = iωv$ (`hopf`), started where the straight line between
-//! a pair at one end and its nearest at the other meets the axis, with the eigenvector there
-//! from inverse iteration: a few LUs of size N + 1 a crossing, whose last step also gives
-//! $d\,\mathrm{Re}\,λ/dV$ and so the direction. When the directions found do not add up to
-//! the change of the count, Newton is tried again from the pairs nearest the axis at the
-//! step's midpoint (a full eigen-decomposition with vectors), and failing that the step is
-//! bisected on the count until each part holds one crossing, located by Brent's method on the
-//! real part of the tracked eigenvalue.
+//! other end is stable (one mode recovering while another sets in). There the crossings are
+//! located by Newton's method on the Hopf system $J(V)v = iωv$ (`hopf`) from the pairs
+//! nearest the axis at the step's midpoint, each re-checked by fresh eigenvalues 1e-6 V either
+//! side (which give its direction). When the directions found do not add up to the change of
+//! the count, the step is bisected on the count until each part holds one crossing, located by
+//! Brent's method on the real part of the tracked eigenvalue.
 
 mod brent;
 mod eigen_scan;
@@ -245,8 +241,7 @@ pub struct CriticalSpeeds {
     /// speeds where a real eigenvalue crosses zero (divergence, not hunting) (m/s)
     pub divergence_speeds_m_s: Vec<f64>,
     /// evaluations of the characteristic polynomial (4 states) or eigenvalue decompositions
-    /// (more states; the LUs of inverse iteration and of Newton on the Hopf system are not
-    /// counted)
+    /// (more states; the LU steps of Newton on the Hopf system are not counted)
     pub evaluations: usize,
 }
 
