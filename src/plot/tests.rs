@@ -334,17 +334,22 @@ fn plot_right(svg: &str) -> f64 {
         .fold(f64::NEG_INFINITY, f64::max)
 }
 
-#[test]
-fn the_legend_goes_beside_the_plot_only_when_every_place_inside_covers_data() {
-    let figure = |series: Vec<Series>| Figure {
-        title: "legend".into(),
+/// A figure titled `title` over the unit square, axes "x (m)" and "y (m)".
+fn unit_square(title: &str, series: Vec<Series>) -> Figure {
+    Figure {
+        title: title.into(),
         x_label: "x (m)".into(),
         y_label: "y (m)".into(),
         series,
         x_range: Some((0.0, 1.0)),
         y_range: Some((0.0, 1.0)),
         ..Figure::default()
-    };
+    }
+}
+
+#[test]
+fn the_legend_goes_beside_the_plot_only_when_every_place_inside_covers_data() {
+    let figure = |series: Vec<Series>| unit_square("legend", series);
     // a line in the lower left only: the legend stays inside, in the free upper right
     let corner = figure(vec![line(
         "corner",
@@ -393,15 +398,7 @@ fn the_legend_goes_below_the_plot_in_columns_when_beside_would_squeeze_it() {
             false,
         ));
     }
-    let f = Figure {
-        title: "legend below".into(),
-        x_label: "x (m)".into(),
-        y_label: "y (m)".into(),
-        series,
-        x_range: Some((0.0, 1.0)),
-        y_range: Some((0.0, 1.0)),
-        ..Figure::default()
-    };
+    let f = unit_square("legend below", series);
     let svg = render_svg(&f, 1000, 640).expect("renders");
     assert!(
         super::legend_clashes(&svg).is_empty(),
