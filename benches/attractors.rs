@@ -15,6 +15,14 @@
 //! Worst cases (issue 30: a plausible-looking change to a shipped study that made a run many
 //! times slower), on the machine's threads:
 //!
+//! The tangent vector of the largest Lyapunov exponent (issue 30):
+//!
+//! * `lyapunov_tangent_s1002_bogie/{checked,free}`: 8 s (about 100 returns) of a chaotic
+//!   motion of `studies/dtu-cooperrider-bogie-s1002.toml` at 135.96 m/s (the search's top
+//!   speed) with one tangent vector, the vector in the error test or carried on the state's
+//!   steps ([`critspeed::system::ode::TangentControl`]); the search computes one such exponent
+//!   per chaotic initial state.
+//!
 //! * `worst_case/bifurcation_dtu_bogie_e2100`: the DTU bogie's diagram with
 //!   `young_modulus = "2100 GPa"`, whose branch turns down to low speeds where the creep
 //!   forces make the model stiff; it now ends with the stiffness stop at 7.2 m/s.
@@ -77,6 +85,40 @@ fn worst_cases(c: &mut Criterion) {
     g.finish();
 }
 
+fn lyapunov_tangent(c: &mut Criterion) {
+    use critspeed::system::ode::{
+        integrate, integrate_tangent, OdeOptions, TangentControl, Tolerances,
+    };
+    use nalgebra::SVector;
+    const N: usize = 12;
+    let plan = prepared("dtu-cooperrider-bogie-s1002.toml").plan().clone();
+    let model = plan.model().expect("model");
+    assert_eq!(model.states(), N, "the S1002 bogie has 12 states");
+    let speed = 135.96;
+    let opts = OdeOptions {
+        tol: Tolerances::new(1e-8, 1e-11).expect("valid"),
+        ..OdeOptions::default()
+    };
+    // onto the chaotic attractor: a 6 mm kick of the leading wheelset, 20 s
+    let mut x0 = SVector::<f64, N>::zeros();
+    x0[0] = 6e-3;
+    let x = integrate(&model, speed, &x0, 20.0, &opts)
+        .expect("simulates")
+        .x;
+    let w = SVector::<f64, N>::from_element(1.0).normalize();
+    let mut g = c.benchmark_group("lyapunov_tangent_s1002_bogie");
+    g.sample_size(10).measurement_time(Duration::from_secs(20));
+    for (name, control) in [
+        ("checked", TangentControl::Checked),
+        ("free", TangentControl::Free),
+    ] {
+        g.bench_function(name, |b| {
+            b.iter(|| integrate_tangent(&model, speed, black_box(&x), &w, 8.0, &opts, control))
+        });
+    }
+    g.finish();
+}
+
 fn benches(c: &mut Criterion) {
     let bogie = prepared("dtu-cooperrider-bogie.toml");
     let mut g = c.benchmark_group("bifurcation_switching_dtu_bogie");
@@ -110,5 +152,5 @@ fn benches(c: &mut Criterion) {
     }
 }
 
-criterion_group!(attractor_benches, worst_cases, benches);
+criterion_group!(attractor_benches, lyapunov_tangent, worst_cases, benches);
 criterion_main!(attractor_benches);

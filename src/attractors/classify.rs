@@ -31,7 +31,7 @@ use crate::bifurcation::solve_cycle;
 use crate::model::{BodyKind, Vehicle};
 use crate::system::ode::{
     integrate_sections, integrate_tangent, integrate_with_extremes, OdeOptions, Return, StopReason,
-    Tolerances,
+    TangentControl, Tolerances,
 };
 
 /// What the classification needs besides the model.
@@ -402,7 +402,8 @@ pub fn largest_lyapunov<const N: usize, F: crate::system::ode::VectorField<N>>(
     let mut w = SVector::<f64, N>::from_element(1.0).normalize();
     let mut sum = 0.0;
     for _ in 0..chunks {
-        let (sol, v) = integrate_tangent(field, p, &x, &w, tau, &opts).ok()?;
+        let (sol, v) =
+            integrate_tangent(field, p, &x, &w, tau, &opts, TangentControl::Free).ok()?;
         let n = v.norm();
         if !(n.is_finite() && n > 0.0) {
             return None;

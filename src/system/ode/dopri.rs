@@ -168,11 +168,13 @@ impl<const N: usize> Carried<N> for SMatrix<f64, N, N> {
 }
 
 /// One tangent vector $w$ with $\dot w = J(x)\,w$: $\Phi(t)\,w_0$ without $\Phi$ (the
-/// largest Lyapunov exponent needs no more). Its error is measured as one column of $\Phi$.
+/// largest Lyapunov exponent needs no more). With `CHECKED` its error is measured as one
+/// column of $\Phi$ and joins the step control; without, the steps are the state's alone
+/// and $w$ rides along on them (see [`integrate_tangent`](super::integrate_tangent)).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Column<const N: usize>(pub SVector<f64, N>);
+pub(super) struct Column<const N: usize, const CHECKED: bool>(pub SVector<f64, N>);
 
-impl<const N: usize> Carried<N> for Column<N> {
+impl<const N: usize, const CHECKED: bool> Carried<N> for Column<N, CHECKED> {
     const ALWAYS: bool = true;
     fn zero() -> Self {
         Column(SVector::zeros())
@@ -193,7 +195,11 @@ impl<const N: usize> Carried<N> for Column<N> {
         Column(s)
     }
     fn error(e: &Self, y0: &Self, y1: &Self, tol: &Tolerances) -> f64 {
-        phi_rms(&e.0, &y0.0, &y1.0, tol)
+        if CHECKED {
+            phi_rms(&e.0, &y0.0, &y1.0, tol)
+        } else {
+            0.0
+        }
     }
     fn sum(&self) -> f64 {
         self.0.sum()

@@ -212,9 +212,23 @@ pub fn integrate<const N: usize, F: VectorField<N>>(
     by_carried!(opts, go(f, p, x0, t_end, opts))
 }
 
+/// Whether a carried tangent vector joins the step-size control of [`integrate_tangent`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TangentControl {
+    /// $w$ is in the error test, as one column of $\Phi$: the steps resolve $w$ as well as
+    /// $x$ (the variational solution to the tolerance).
+    Checked,
+    /// the steps are the state's alone and $w$ is carried on them: the trajectory is exactly
+    /// [`integrate`]'s, and $w$ has the method's fifth order on that grid. What a Lyapunov
+    /// exponent needs: it is a growth rate averaged over many returns, not a solution to a
+    /// tolerance, and on the S1002 bogie's chaotic motions checking $w$ took about twice as
+    /// many steps as the state needs.
+    Free,
+}
+
 /// As [`integrate`], carrying one tangent vector instead of the monodromy matrix: returns the
 /// solution and $w(t_{end}) = \Phi(t_{end})\,w_0$, from $\dot w = J(x(t))\,w$ with the
-/// same stages as $x$ and $w$ in the error test (as one column of $\Phi$). It costs one
+/// same stages as $x$ ([`TangentControl`] says whether $w$ joins the error test). It costs one
 /// directional derivative per stage instead of a Jacobian and an $N \times N$ product:
 /// what the largest Lyapunov exponent needs. `opts.monodromy` is ignored.
 pub fn integrate_tangent<const N: usize, F: VectorField<N>>(
@@ -224,16 +238,31 @@ pub fn integrate_tangent<const N: usize, F: VectorField<N>>(
     w0: &SVector<f64, N>,
     t_end: f64,
     opts: &OdeOptions,
+    control: TangentControl,
 ) -> Result<(Solution<N>, SVector<f64, N>), OdeError> {
-    let opts = OdeOptions {
-        monodromy: false,
-        ..*opts
-    };
-    let run = run(f, p, x0, Column(*w0), t_end, &opts, |_, _, _| {
-        ControlFlow::Continue(())
-    })?;
-    let w = run.carried.0;
-    Ok((checked(run)?, w))
+    fn go<const N: usize, F: VectorField<N>, const CHECKED: bool>(
+        f: &F,
+        p: f64,
+        x0: &SVector<f64, N>,
+        w0: &SVector<f64, N>,
+        t_end: f64,
+        opts: &OdeOptions,
+    ) -> Result<(Solution<N>, SVector<f64, N>), OdeError> {
+        let opts = OdeOptions {
+            monodromy: false,
+            ..*opts
+        };
+        let w0: Column<N, CHECKED> = Column(*w0);
+        let run = run(f, p, x0, w0, t_end, &opts, |_, _, _| {
+            ControlFlow::Continue(())
+        })?;
+        let w = run.carried.0;
+        Ok((checked(run)?, w))
+    }
+    match control {
+        TangentControl::Checked => go::<N, F, true>(f, p, x0, w0, t_end, opts),
+        TangentControl::Free => go::<N, F, false>(f, p, x0, w0, t_end, opts),
+    }
 }
 
 /// As [`integrate`], but a numerical failure (step limit, vanishing step, NaN) is an outcome,

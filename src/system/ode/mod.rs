@@ -47,7 +47,7 @@ use nalgebra::{SMatrix, SVector};
 pub use driver::{
     integrate, integrate_observed, integrate_partial, integrate_sections, integrate_tangent,
     integrate_to_section, integrate_with_extremes, integrate_with_peaks, step_times,
-    tangent_on_steps, Return,
+    tangent_on_steps, Return, TangentControl,
 };
 
 /// An autonomous vector field $\dot x = f(x; p)$ with its exact Jacobian.
