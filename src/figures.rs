@@ -3,10 +3,12 @@
 mod curve;
 mod sweep;
 mod trade;
+mod uncertainty;
 
 pub use curve::curve;
 pub use sweep::{sweep, sweep_map, sweep_with_curves, HeatMap};
 pub use trade::trade_curve;
+pub use uncertainty::uncertainty;
 
 use crate::analysis::{GeometryReport, LinearReport};
 use crate::plot::{render_grid, render_svg, Figure, Marker, PlotError, Series, Style};

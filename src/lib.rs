@@ -25,6 +25,8 @@
 //! 8. [`trade`]: a study's `[trade]` over its sweep's results: the feasible designs, the best
 //!    one and the Pareto front of critical speed against the objective
 //!    ([`plot::heat_map_svg`] draws two-axis maps with contours).
+//! 9. [`uncertainty`]: the critical speeds' distribution over random parameters
+//!    (`[uncertainty]`) and their first-order and total Sobol indices, evaluated as a sweep.
 //!
 //! [`api`] is the front door over all of this that the command line and the Python package
 //! (`python/`, docs/python.md) both call: a study (file, TOML text or JSON object) in, reports
@@ -70,3 +72,4 @@ pub mod system;
 #[cfg(test)]
 mod testutil;
 pub mod trade;
+pub mod uncertainty;

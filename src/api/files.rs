@@ -127,6 +127,22 @@ pub fn sweep(study: &SweepStudy, rows: &[PointRecord]) -> Output {
     out
 }
 
+/// `uncertainty.json`, `uncertainty.csv` and the figure of an uncertainty study's results.
+pub fn uncertainty(
+    study: &crate::uncertainty::UncertaintyStudy,
+    report: &crate::uncertainty::UncertaintyReport,
+    rows: &[PointRecord],
+) -> Result<Output, Failure> {
+    let json = serde_json::to_string_pretty(report).map_err(compute)? + "\n";
+    Ok(Output::default()
+        .text("uncertainty.json", json)
+        .text(
+            "uncertainty.csv",
+            crate::uncertainty::uncertainty_csv(study, rows),
+        )
+        .figure(figures::uncertainty(report), "uncertainty.csv"))
+}
+
 /// The text of `conicity.csv`.
 pub fn conicity_csv(results: &[Conicity]) -> String {
     let mut csv = String::from("amplitude_m,equivalent_conicity,turning_low_m,turning_high_m\n");

@@ -552,13 +552,16 @@ pub fn check(source: &Source) -> Result<Checked, Failure> {
     if file.curve.is_some() {
         curve::curve_study(source)?;
     }
+    if let Some(u) = &file.uncertainty {
+        crate::uncertainty::spec::resolve(u).map_err(user)?;
+    }
     let raw: toml::Table = toml::from_str(&source.text).map_err(|e| {
         user(crate::study::StudyError::Syntax {
             path: source.origin.clone(),
             message: e.to_string(),
         })
     })?;
-    let sections = ["sweep", "trade", "curve"]
+    let sections = ["sweep", "trade", "curve", "uncertainty"]
         .iter()
         .filter_map(|k| raw.get(*k).map(|v| (k.to_string(), v.clone())))
         .collect();

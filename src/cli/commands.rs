@@ -77,6 +77,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
         Command::Conicity(args) => super::conicity::run(args, &cli.out),
         Command::Sweep(args) => super::sweep::run(args, &cli.out),
         Command::Merge(args) => super::sweep::merge(args, &cli.out),
+        Command::Uncertainty(args) => super::uncertainty::run(args, &cli.out),
         Command::Trade(args) => super::trade::run(args, &cli.out),
         Command::Curve(args) => super::curve::run(args, &cli.out),
         Command::Geometry { study } => {

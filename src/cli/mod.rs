@@ -18,6 +18,7 @@ mod sweep;
 mod table;
 mod trade;
 mod trade_curve;
+mod uncertainty;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -119,8 +120,13 @@ pub enum Command {
     /// V_NL (symmetry breaking, period doubling and torus when asked), and the codimension-two
     /// points (curve.csv, curve.json, curve.svg).
     Curve(curve::CurveArgs),
-    /// Join the records files of a sharded sweep into sweep.csv (refuses other studies' files).
+    /// Join the records files of a sharded sweep into sweep.csv, or of a sharded uncertainty
+    /// study into its results (refuses other studies' files).
     Merge(sweep::MergeArgs),
+    /// Critical speeds under uncertainty: the distribution of the speeds over the study's
+    /// `[uncertainty]` parameters and their first-order and total Sobol indices, in parallel,
+    /// resumable, optionally one shard (uncertainty.json, uncertainty.csv, uncertainty.svg).
+    Uncertainty(uncertainty::UncertaintyArgs),
     /// The study's `[trade]` over its sweep (`out/<name>/sweep.csv`): the feasible set, the best
     /// design and the Pareto front of critical speed against the objective (trade.csv,
     /// trade.svg); with `method = "curve"`, on the curves over the sweep's one key: feasible

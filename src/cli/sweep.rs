@@ -53,13 +53,13 @@ fn failure(e: SweepError) -> Failure {
     crate::api::sweep_failure(e)
 }
 
-fn clock(d: f64) -> String {
+pub(super) fn clock(d: f64) -> String {
     let s = d.max(0.0).round() as u64;
     format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
 }
 
 /// One progress line: points done, failures, elapsed, estimated remaining.
-fn progress_line(p: &Progress) -> String {
+pub(super) fn progress_line(p: &Progress) -> String {
     let el = p.elapsed.as_secs_f64();
     let left = if p.done > 0 {
         el / p.done as f64 * (p.todo - p.done) as f64
@@ -101,17 +101,11 @@ pub(super) fn compute_points(
         return Err(user(anyhow!("--threads 0: must be at least 1")));
     }
     let dir = super::commands::out_dir(root, &study.base)?;
-    let env = |k: &str| std::env::var(k).ok();
-    let shard = match (&args.shard, args.shard_from_env, args.shards) {
-        (Some(s), _, _) => Shard::parse(s).map_err(failure)?,
-        (None, true, Some(n)) => Shard::from_env_with_count(env, n).map_err(failure)?,
-        (None, true, None) => {
-            let s = Shard::from_env(env).map_err(failure)?;
-            check_recorded_count(s, &dir)?;
-            s
-        }
-        (None, false, _) => Shard::ALL,
-    };
+    let shard = shard_of(
+        (&args.shard, args.shard_from_env, args.shards),
+        &dir,
+        "sweep",
+    )?;
     let records = dir.join(shard.records_file());
     let total = study.spec.len();
     let mine = shard.ids(total).len();
@@ -188,20 +182,40 @@ pub(super) fn compute_points(
     Ok(Some((study, res.rows)))
 }
 
+/// The shard of `--shard I/N`, or `--shard-from-env [--shards N]`, or the whole design; `stem`
+/// names the records files (`sweep`, `uncertainty`) whose shard counts must agree.
+pub(super) fn shard_of(
+    (shard, from_env, shards): (&Option<String>, bool, Option<usize>),
+    dir: &Path,
+    stem: &str,
+) -> Result<Shard, Failure> {
+    let env = |k: &str| std::env::var(k).ok();
+    Ok(match (shard, from_env, shards) {
+        (Some(s), _, _) => Shard::parse(s).map_err(failure)?,
+        (None, true, Some(n)) => Shard::from_env_with_count(env, n).map_err(failure)?,
+        (None, true, None) => {
+            let s = Shard::from_env(env).map_err(failure)?;
+            check_recorded_count(s, dir, stem)?;
+            s
+        }
+        (None, false, _) => Shard::ALL,
+    })
+}
+
 /// A shard count taken from the submission (SLURM_ARRAY_TASK_COUNT) must be the one the
 /// folder's shard records were written with: a single array index resubmitted alone has
 /// COUNT = 1 and would recompute the whole grid as shard 0/1.
-fn check_recorded_count(shard: Shard, dir: &Path) -> Result<(), Failure> {
+fn check_recorded_count(shard: Shard, dir: &Path, stem: &str) -> Result<(), Failure> {
     let names: Vec<String> = std::fs::read_dir(dir)
         .map_err(compute)?
         .filter_map(|e| e.ok()?.file_name().into_string().ok())
         .collect();
-    let counts = sweep::shard::recorded_counts(names.iter().map(String::as_str));
+    let counts = sweep::shard::recorded_counts_of(stem, names.iter().map(String::as_str));
     match counts.iter().find(|&&n| n != shard.count) {
         None => Ok(()),
         Some(&n) => Err(user(anyhow!(
             "SLURM_ARRAY_TASK_COUNT = {} makes this task shard {}/{}, but {} holds the records \
-             of {n} shards (sweep.shard-I-of-{n}.records.csv): the count comes from the \
+             of {n} shards ({stem}.shard-I-of-{n}.records.csv): the count comes from the \
              submission, so a resubmitted array index would not resume its shard; pass \
              --shards {n} beside --shard-from-env (the array index is then the shard index, \
              --array=0-{}), or move the old records away",
@@ -302,7 +316,13 @@ fn summary(study: &SweepStudy, rows: &[PointRecord]) -> String {
 
 /// Runs `critspeed merge`.
 pub fn merge(args: &MergeArgs, root: &Path) -> Result<(), Failure> {
-    let study = SweepStudy::load(&args.study).map_err(failure)?;
+    let study = match SweepStudy::load(&args.study) {
+        // a study with [uncertainty] and no [sweep]: its evaluations' records
+        Err(SweepError::NoSweep { .. }) if super::uncertainty::has_section(&args.study) => {
+            return super::uncertainty::merge(args, root)
+        }
+        s => s.map_err(failure)?,
+    };
     let dir = output::study_dir(root, &study.base.name).map_err(compute)?;
     let files = if args.records.is_empty() {
         let mut f: Vec<PathBuf> = std::fs::read_dir(&dir)

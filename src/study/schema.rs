@@ -57,6 +57,9 @@ pub struct StudyFile {
     /// critical speeds as curves over a design key (`critspeed curve`)
     #[serde(default)]
     pub curve: Option<CurveSection>,
+    /// critical speeds under uncertain parameters (`critspeed uncertainty`)
+    #[serde(default)]
+    pub uncertainty: Option<UncertaintySection>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -413,4 +416,66 @@ pub struct CurveSection {
     /// also run the attractor search at every V_NL value of the key (default false)
     #[serde(default)]
     pub attractors: Option<bool>,
+}
+
+/// `[uncertainty]`: the critical speeds' distribution and Sobol indices over random parameters.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UncertaintySection {
+    /// base sample count N (the Sobol indices cost N (d + 2) evaluations); a power of two for
+    /// "sobol"
+    pub samples: usize,
+    /// "sobol" (scrambled Sobol quasi-Monte Carlo, default) or "random" (Monte Carlo)
+    #[serde(default)]
+    pub method: Option<String>,
+    /// seed of the scrambling or of the random numbers, and of the bootstrap (default 1)
+    #[serde(default)]
+    pub seed: Option<u32>,
+    /// results per evaluation: any of "kalker", "hopf", "nonlinear" (default ["kalker"])
+    #[serde(default)]
+    pub compute: Option<Vec<String>>,
+    /// first-order and total Sobol indices with bootstrap intervals (default true)
+    #[serde(default)]
+    pub indices: Option<bool>,
+    /// speed whose probability of lying above each critical speed is reported
+    #[serde(default)]
+    pub operating_speed: Option<Quantity>,
+    /// the uncertain parameters (at least one)
+    #[serde(default)]
+    pub parameter: Vec<UncertainParameterSection>,
+}
+
+/// One uncertain parameter of `[uncertainty]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UncertainParameterSection {
+    /// dotted study key, any sweepable one, e.g. "suspension.lateral_stiffness"
+    pub key: String,
+    /// "uniform" (from, to), "normal" (mean, std, optional from/to truncation), "lognormal"
+    /// (median, factor) or "choice" (values, weights)
+    pub distribution: String,
+    /// lower end (uniform; truncation of normal), any accepted unit of the key
+    #[serde(default)]
+    pub from: Option<Quantity>,
+    /// upper end (uniform; truncation of normal)
+    #[serde(default)]
+    pub to: Option<Quantity>,
+    /// mean (normal)
+    #[serde(default)]
+    pub mean: Option<Quantity>,
+    /// standard deviation (normal)
+    #[serde(default)]
+    pub std: Option<Quantity>,
+    /// median (lognormal)
+    #[serde(default)]
+    pub median: Option<Quantity>,
+    /// the ratio of the 84th percentile to the median, exp(σ) (lognormal; > 1)
+    #[serde(default)]
+    pub factor: Option<f64>,
+    /// the values (choice)
+    #[serde(default)]
+    pub values: Option<Vec<Quantity>>,
+    /// their relative weights (choice; default equal)
+    #[serde(default)]
+    pub weights: Option<Vec<f64>>,
 }

@@ -143,8 +143,12 @@ fn open_records(
     };
     if !path.exists() {
         let mut f = std::fs::File::create(path).map_err(io)?;
-        let pre =
-            records::records_preamble(&study.spec, &study.fingerprint, (shard.index, shard.count));
+        let pre = records::preamble(
+            &study.spec.axes,
+            study.len(),
+            &study.fingerprint,
+            (shard.index, shard.count),
+        );
         f.write_all(pre.as_bytes())
             .and_then(|_| f.flush())
             .map_err(io)?;
@@ -168,7 +172,7 @@ fn check_fingerprint(
     path: &Path,
     r: &records::RecordsFile,
 ) -> Result<(), SweepError> {
-    if r.fingerprint != study.fingerprint || r.points != study.spec.len() {
+    if r.fingerprint != study.fingerprint || r.points != study.len() {
         return Err(SweepError::Fingerprint {
             path: path.display().to_string(),
             found: r.fingerprint.clone(),
@@ -246,7 +250,7 @@ pub fn run_cancellable(
     if cancelled.into_inner() {
         return Err(SweepError::Cancelled {
             done: have.len() + computed,
-            total: study.spec.len(),
+            total: study.len(),
         });
     }
     have.extend(sink.rows);
@@ -255,7 +259,7 @@ pub fn run_cancellable(
         rows: have,
         resumed,
         computed,
-        total: study.spec.len(),
+        total: study.len(),
     })
 }
 
@@ -268,7 +272,7 @@ type Resume = (
 );
 
 fn resume(study: &SweepStudy, opts: &SweepOptions) -> Result<Resume, SweepError> {
-    let total = study.spec.len();
+    let total = study.len();
     let (file, mut have) = match &opts.records {
         Some(p) => {
             let (f, rows) = open_records(study, opts.shard, p)?;
@@ -324,7 +328,7 @@ pub struct Merged {
 
 /// Joins records files (shards, or a partial run) of `study`; refuses files of another study.
 pub fn merge(study: &SweepStudy, files: &[PathBuf]) -> Result<Merged, SweepError> {
-    let total = study.spec.len();
+    let total = study.len();
     let mut by_id: Vec<Option<(PointRecord, usize)>> = vec![None; total];
     for (k, path) in files.iter().enumerate() {
         let r = read_records(path)?;

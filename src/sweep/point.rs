@@ -306,7 +306,13 @@ fn onset(model: &Vehicle, opts: &LinearOptions, what: &str) -> Result<Onset, Str
 
 /// Computes point `id` of the sweep. Never fails: problems become the record's failures.
 pub fn compute(study: &SweepStudy, id: usize, spares: &Spares) -> PointRecord {
-    let mut rec = PointRecord::empty(id, study.spec.values(id));
+    compute_at(study, id, study.values(id), spares)
+}
+
+/// Computes the study with its axis keys set to `values` (SI, in axis order), recorded as point
+/// `id`. Never fails: problems become the record's failures.
+pub fn compute_at(study: &SweepStudy, id: usize, values: Vec<f64>, spares: &Spares) -> PointRecord {
+    let mut rec = PointRecord::empty(id, values);
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         fill(study, &mut rec, spares)
     }));
@@ -337,7 +343,7 @@ fn record(rec: &mut PointRecord, which: Computed, found: Result<Onset, String>, 
 }
 
 fn fill(study: &SweepStudy, rec: &mut PointRecord, spares: &Spares) {
-    let plan = match study.point_plan(rec.id) {
+    let plan = match study.plan_with(&rec.values) {
         Ok(p) => p,
         Err(e) => return rec.failures.push(format!("invalid parameters: {e}")),
     };

@@ -77,13 +77,18 @@ pub fn sweep_csv(axes: &[Axis], rows: &[PointRecord]) -> String {
 
 /// The comment lines and header that open a records file.
 pub fn records_preamble(spec: &SweepSpec, fingerprint: &str, shard: (usize, usize)) -> String {
+    preamble(&spec.axes, spec.len(), fingerprint, shard)
+}
+
+/// The comment lines and header that open a records file of `points` points over `axes`.
+pub fn preamble(axes: &[Axis], points: usize, fingerprint: &str, shard: (usize, usize)) -> String {
     format!(
         "# critspeed sweep records: one line per finished point, in finishing order\n\
          # fingerprint: {fingerprint}\n# points: {}\n# shard: {}/{}\n{}\n",
-        spec.len(),
+        points,
         shard.0,
         shard.1,
-        header(&spec.axes)
+        header(axes)
     )
 }
 

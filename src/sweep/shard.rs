@@ -92,10 +92,16 @@ impl Shard {
 
     /// The records file name of this shard in the study's output folder.
     pub fn records_file(&self) -> String {
+        self.records_file_of("sweep")
+    }
+
+    /// The records file name of this shard for an analysis whose files start with `stem`
+    /// (`sweep`, `uncertainty`).
+    pub fn records_file_of(&self, stem: &str) -> String {
         if *self == Shard::ALL {
-            "sweep.records.csv".into()
+            format!("{stem}.records.csv")
         } else {
-            format!("sweep.shard-{}-of-{}.records.csv", self.index, self.count)
+            format!("{stem}.shard-{}-of-{}.records.csv", self.index, self.count)
         }
     }
 }
@@ -121,11 +127,17 @@ fn env_number(
 /// The shard counts `N` of the files `sweep.shard-I-of-N.records.csv` among `names`, sorted,
 /// each once: the counts a sweep's output folder already holds records for.
 pub fn recorded_counts<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<usize> {
+    recorded_counts_of("sweep", names)
+}
+
+/// [`recorded_counts`] of the records files `<stem>.shard-I-of-N.records.csv`.
+pub fn recorded_counts_of<'a>(stem: &str, names: impl IntoIterator<Item = &'a str>) -> Vec<usize> {
+    let prefix = format!("{stem}.shard-");
     let mut counts: Vec<usize> = names
         .into_iter()
         .filter_map(|n| {
             let rest = n
-                .strip_prefix("sweep.shard-")?
+                .strip_prefix(prefix.as_str())?
                 .strip_suffix(".records.csv")?;
             let (i, n) = rest.split_once("-of-")?;
             i.parse::<usize>().ok()?;

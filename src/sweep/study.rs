@@ -21,6 +21,9 @@ pub struct SweepStudy {
     /// the study's `[curve]` section, when it has one (the sweep's figure draws its curves
     /// when its key is the sweep's one axis)
     pub curve: Option<crate::study::schema::CurveSection>,
+    /// explicit points (each the axis values in SI, in axis order) in place of the grid of
+    /// `spec` (an uncertainty study's sample design); `None` = the grid
+    design: Option<std::sync::Arc<[Vec<f64>]>>,
     table: toml::Table,
     base_model: Vehicle,
     /// folder that relative paths in the study are taken from
@@ -79,6 +82,13 @@ pub(crate) fn normalise(t: &mut toml::Table) {
     }
 }
 
+fn syntax(origin: &str, e: &dyn std::fmt::Display) -> SweepError {
+    SweepError::Study(study::StudyError::Syntax {
+        path: origin.to_string(),
+        message: e.to_string(),
+    })
+}
+
 /// FNV-1a 64-bit hash (stable across platforms and Rust versions).
 fn fnv1a(text: &str) -> u64 {
     text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
@@ -111,42 +121,92 @@ impl SweepStudy {
         origin: &str,
         folder: Option<&std::path::Path>,
     ) -> Result<Self, SweepError> {
-        let syntax = |e: &dyn std::fmt::Display| {
-            SweepError::Study(study::StudyError::Syntax {
+        let spec = |file: &StudyFile| {
+            let section = file.sweep.as_ref().ok_or_else(|| SweepError::NoSweep {
                 path: origin.to_string(),
-                message: e.to_string(),
-            })
+            })?;
+            resolve(section)
         };
+        let s = Self::build(text, origin, folder, spec, None)?;
+        s.check_axis_values()?;
+        Ok(s)
+    }
+
+    /// A study evaluated at explicit points rather than the grid of a `[sweep]` section: point
+    /// `id` sets the keys of `axes` (whose `values` are not a grid here; they are only
+    /// checked, each alone, to give a valid study) to `design[id]`. `tag` describes how the
+    /// design was made and enters the fingerprint, so records of another design are refused.
+    pub fn with_design(
+        text: &str,
+        origin: &str,
+        folder: Option<&std::path::Path>,
+        spec: SweepSpec,
+        design: Vec<Vec<f64>>,
+        tag: &str,
+    ) -> Result<Self, SweepError> {
+        let mut s = Self::build(text, origin, folder, |_| Ok(spec), Some(tag))?;
+        s.check_axis_values()?;
+        s.design = Some(design.into());
+        Ok(s)
+    }
+
+    /// The study, its table without the analysis sections, the base model and the fingerprint
+    /// (of the sweep's axes and compute, and `tag` when given); `spec` makes the axes from the
+    /// study file once the study itself is valid.
+    fn build(
+        text: &str,
+        origin: &str,
+        folder: Option<&std::path::Path>,
+        spec: impl FnOnce(&StudyFile) -> Result<SweepSpec, SweepError>,
+        tag: Option<&str>,
+    ) -> Result<Self, SweepError> {
         let base = study::parse_in(text, origin, folder).map_err(SweepError::Study)?;
-        let mut table: toml::Table = toml::from_str(text).map_err(|e| syntax(&e))?;
-        let file: StudyFile = toml::from_str(text).map_err(|e| syntax(&e))?;
-        let section = file.sweep.ok_or_else(|| SweepError::NoSweep {
-            path: origin.to_string(),
-        })?;
-        let spec = resolve(&section)?;
+        let mut table: toml::Table = toml::from_str(text).map_err(|e| syntax(origin, &e))?;
+        let file: StudyFile = toml::from_str(text).map_err(|e| syntax(origin, &e))?;
+        let spec = spec(&file)?;
         table.remove("sweep");
         table.remove("trade");
+        table.remove("uncertainty");
         normalise(&mut table);
         let base_model = base.model().map_err(|e| SweepError::Model(e.to_string()))?;
         let mut normal = base.clone();
         normal.description.clear();
-        let fingerprint = format!(
-            "{:016x}",
-            fnv1a(&format!("{normal:?}|{:?}|{:?}", spec.axes, spec.compute))
-        );
-        let s = Self {
+        let mut print = format!("{normal:?}|{:?}|{:?}", spec.axes, spec.compute);
+        if let Some(t) = tag {
+            print = format!("{print}|{t}");
+        }
+        Ok(Self {
             base,
             spec,
-            fingerprint,
+            fingerprint: format!("{:016x}", fnv1a(&print)),
             curve: file.curve,
+            design: None,
             table,
             base_model,
             folder: folder.map(std::path::Path::to_path_buf),
             text: text.to_string(),
             origin: origin.to_string(),
-        };
-        s.check_axis_values()?;
-        Ok(s)
+        })
+    }
+
+    /// Number of points: the design's rows, or the grid's size.
+    pub fn len(&self) -> usize {
+        self.design
+            .as_ref()
+            .map_or_else(|| self.spec.len(), |d| d.len())
+    }
+
+    /// Whether there is no point (never, after validation).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Axis values (SI, in axis order) of point `id`: the design's row, or the grid point's.
+    pub fn values(&self, id: usize) -> Vec<f64> {
+        match &self.design {
+            Some(d) => d.get(id).cloned().unwrap_or_default(),
+            None => self.spec.values(id),
+        }
     }
 
     /// The study file's text, its name in messages and the folder its relative paths are
@@ -185,9 +245,27 @@ impl SweepStudy {
 
     /// The validated plan of point `id`: the study with each axis key set to its value.
     pub fn point_plan(&self, id: usize) -> Result<Plan, study::StudyError> {
+        self.plan_with(&self.values(id))
+    }
+
+    /// The validated plan with each axis key set to `values` (SI, in axis order).
+    pub fn plan_with(&self, values: &[f64]) -> Result<Plan, study::StudyError> {
+        let pairs: Vec<(&str, f64)> = self
+            .spec
+            .axes
+            .iter()
+            .zip(values)
+            .map(|(a, v)| (a.key.as_str(), *v))
+            .collect();
+        self.point_plan_at(&pairs)
+    }
+
+    /// The validated plan of the study with each `(key, value)` set (SI values of sweepable
+    /// keys, see [`super::SWEEP_KEYS`]).
+    pub fn point_plan_at(&self, values: &[(&str, f64)]) -> Result<Plan, study::StudyError> {
         let mut t = self.table.clone();
-        for (a, v) in self.spec.axes.iter().zip(self.spec.values(id)) {
-            set_key(&mut t, &a.key, v);
+        for (k, v) in values {
+            set_key(&mut t, k, *v);
         }
         self.plan_of(t)
     }
