@@ -304,7 +304,7 @@ fn wheelset_rows_equal_linear_runs_and_the_json_is_the_csvs() {
     assert_eq!(critspeed::plot::legend_clashes(&svg), Vec::<String>::new());
     for text in [
         "empirical CDF",
-        "operating speed 250 km/h",
+        "operating speed 69.4 m/s (250 km/h)",
         "suspension.lateral_stiffness",
         "first-order index",
     ] {

@@ -41,7 +41,7 @@ fn histogram(values: &[f64]) -> (Vec<f64>, Vec<f64>) {
 fn distribution(q: &QuantityReport, operating: Option<f64>) -> Figure {
     let mut f = figure(
         &format!(
-            "{}: {} evaluations",
+            "{}: {} sampled speeds",
             speed_name(&q.name),
             q.values_m_s.len()
         ),
@@ -86,7 +86,7 @@ fn distribution(q: &QuantityReport, operating: Option<f64>) -> Figure {
             .map_or(String::new(), |p| format!(", P(below) = {p:.3}"));
         f.vlines.push(Marker {
             at: v,
-            label: format!("operating speed {:.0} km/h{p}", v * 3.6),
+            label: format!("operating speed {v:.1} m/s ({:.0} km/h){p}", v * 3.6),
         });
     }
     f.y_range = Some((0.0, 1.05));
