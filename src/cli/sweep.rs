@@ -314,6 +314,40 @@ fn summary(study: &SweepStudy, rows: &[PointRecord]) -> String {
     s
 }
 
+/// The records files `critspeed merge` joins: `given`, or else every `STEM*.records.csv` in
+/// `dir` (sorted); each is named on stderr. None is a user error.
+pub(super) fn records_files(
+    dir: &Path,
+    stem: &str,
+    given: &[PathBuf],
+) -> Result<Vec<PathBuf>, Failure> {
+    let files = if given.is_empty() {
+        let mut f: Vec<PathBuf> = std::fs::read_dir(dir)
+            .map_err(compute)?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| {
+                p.file_name()
+                    .and_then(|n| n.to_str())
+                    .is_some_and(|n| n.starts_with(stem) && n.ends_with(".records.csv"))
+            })
+            .collect();
+        f.sort();
+        f
+    } else {
+        given.to_vec()
+    };
+    if files.is_empty() {
+        return Err(user(anyhow!(
+            "no records files ({stem}*.records.csv) in {}",
+            dir.display()
+        )));
+    }
+    for f in &files {
+        statusln!("reading {}", f.display());
+    }
+    Ok(files)
+}
+
 /// Runs `critspeed merge`.
 pub fn merge(args: &MergeArgs, root: &Path) -> Result<(), Failure> {
     let study = match SweepStudy::load(&args.study) {
@@ -324,30 +358,7 @@ pub fn merge(args: &MergeArgs, root: &Path) -> Result<(), Failure> {
         s => s.map_err(failure)?,
     };
     let dir = output::study_dir(root, &study.base.name).map_err(compute)?;
-    let files = if args.records.is_empty() {
-        let mut f: Vec<PathBuf> = std::fs::read_dir(&dir)
-            .map_err(compute)?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| {
-                p.file_name()
-                    .and_then(|n| n.to_str())
-                    .is_some_and(|n| n.starts_with("sweep") && n.ends_with(".records.csv"))
-            })
-            .collect();
-        f.sort();
-        f
-    } else {
-        args.records.clone()
-    };
-    if files.is_empty() {
-        return Err(user(anyhow!(
-            "no records files (sweep*.records.csv) in {}",
-            dir.display()
-        )));
-    }
-    for f in &files {
-        statusln!("reading {}", f.display());
-    }
+    let files = records_files(&dir, "sweep", &args.records)?;
     let m = sweep::merge(&study, &files).map_err(failure)?;
     let total = study.spec.len();
     if !m.missing.is_empty() {

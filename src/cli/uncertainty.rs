@@ -10,7 +10,7 @@ use anyhow::anyhow;
 
 use super::commands::{compute, user};
 use super::console::{results, status, statusln};
-use super::sweep::{progress_line, shard_of, MergeArgs};
+use super::sweep::{progress_line, records_files, shard_of, MergeArgs};
 use super::Failure;
 use crate::output;
 use crate::sweep::{self, PointRecord, Progress, Shard, SweepOptions};
@@ -221,30 +221,7 @@ pub(super) fn merge(args: &MergeArgs, root: &Path) -> Result<(), Failure> {
     let study = UncertaintyStudy::load(&args.study).map_err(failure)?;
     let dir = output::study_dir(root, &study.sweep.base.name).map_err(compute)?;
     let stem = uncertainty::RECORDS_STEM;
-    let files = if args.records.is_empty() {
-        let mut f: Vec<PathBuf> = std::fs::read_dir(&dir)
-            .map_err(compute)?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| {
-                p.file_name()
-                    .and_then(|n| n.to_str())
-                    .is_some_and(|n| n.starts_with(stem) && n.ends_with(".records.csv"))
-            })
-            .collect();
-        f.sort();
-        f
-    } else {
-        args.records.clone()
-    };
-    if files.is_empty() {
-        return Err(user(anyhow!(
-            "no records files ({stem}*.records.csv) in {}",
-            dir.display()
-        )));
-    }
-    for f in &files {
-        statusln!("reading {}", f.display());
-    }
+    let files = records_files(&dir, stem, &args.records)?;
     let m = uncertainty::merge(&study, &files).map_err(failure)?;
     let total = study.len();
     if !m.missing.is_empty() {
