@@ -18,6 +18,11 @@
 //!   (the default segments: one per thread).
 //! * `vehicle/diagram_car_60/{1,2}`: the first 60 cycles of the car's diagram (through the
 //!   torus point and the 222.9 m/s fold), the same way.
+//! * `vehicle/rhs_car_series`, `vehicle/variational_car_series`,
+//!   `vehicle/diagram_car_60_series/1`: the same car with its eight yaw and secondary lateral
+//!   dampers on series stiffness (10 and 5 MN/m; docs/model.md §13: four strokes, 32 states),
+//!   against `rhs_car`, `variational_car` and `diagram_car_60/1` (issue 32's aim: the diagram
+//!   within 1.3 times the rigid car's).
 //! * `vehicle/diagram_car_whole/{1,2}`: the car's whole diagram (about 140 cycles to 7 mm,
 //!   its folds, V_NL) on 1 and 2 threads: the vehicle issue's aim (under 10 s on this 2-core
 //!   machine) and issue 11's rayon speed-up; ten samples each take about four minutes.
@@ -121,7 +126,42 @@ fn benches(c: &mut Criterion) {
         })
     });
     group.finish();
+    series(c);
     diagrams(c, &bp, &bogie, &cp, &car);
+}
+
+/// The DTU car with its yaw and secondary lateral dampers on series stiffness.
+fn series(c: &mut Criterion) {
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("studies");
+    let text = std::fs::read_to_string(folder.join("dtu-cooperrider-car.toml"))
+        .expect("study text")
+        .replace(
+            "[secondary]",
+            "[secondary]\nyaw_damper_series_stiffness = \"10 MN/m\"\n\
+             lateral_damper_series_stiffness = \"5 MN/m\"",
+        );
+    let plan = study::parse_in(&text, "series", Some(&folder)).expect("study");
+    let car = plan.model().expect("model");
+    assert_eq!(car.states(), 32);
+    let x = SVector::<f64, 32>::from_fn(|i, _| 1e-4 * (i as f64 + 1.0).sin());
+    c.bench_function("vehicle/rhs_car_series", |b| {
+        b.iter(|| VectorField::<32>::rhs(&car, black_box(&x), black_box(100.0)))
+    });
+    let phi = nalgebra::SMatrix::<f64, 32, 32>::from_fn(|i, j| {
+        f64::from(u8::from(i == j)) + 1e-3 * ((i * 32 + j) as f64).sin()
+    });
+    c.bench_function("vehicle/variational_car_series", |b| {
+        b.iter(|| VectorField::<32>::rhs_variational(&car, black_box(&x), 100.0, black_box(&phi)))
+    });
+    let mut group = c.benchmark_group("vehicle");
+    group
+        .sample_size(10)
+        .sampling_mode(criterion::SamplingMode::Flat);
+    group.measurement_time(std::time::Duration::from_secs(60));
+    let mut opts = plan.bifurcation_options();
+    opts.max_points = 60;
+    time_diagram(&mut group, "diagram_car_60_series", 1, &car, &opts);
+    group.finish();
 }
 
 /// The bifurcation diagrams on rayon pools of 1 and 2 threads.

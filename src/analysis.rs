@@ -42,6 +42,9 @@ pub struct LinearReport {
     pub kalker_lyapunov: Vec<Option<Lyapunov>>,
     /// first Lyapunov coefficient at each crossing of the study's law, when not Kalker
     pub creep_law_lyapunov: Vec<Option<Lyapunov>>,
+    /// what the linearisation replaced: each damper on a force–velocity curve is linearised at
+    /// its slope at zero (docs/model.md §13), one sentence per damper
+    pub notes: Vec<String>,
 }
 
 /// One body's part of a mode shape.
@@ -245,7 +248,25 @@ pub fn linear_states<const N: usize>(
         creep_law_modes,
         kalker_lyapunov,
         creep_law_lyapunov,
+        notes: linearisation_notes(model),
     })
+}
+
+/// One sentence per damper whose force–velocity curve the linear analysis replaces by its
+/// slope at zero.
+pub fn linearisation_notes(model: &Vehicle) -> Vec<String> {
+    model
+        .maxwell
+        .iter()
+        .filter_map(|mx| {
+            let g = mx.law.as_ref()?;
+            Some(format!(
+                "{}: the linear analysis uses the force-velocity curve's slope at zero, {:.6} kN s/m per damper (the centred motion); the blow-off acts in the nonlinear analyses only",
+                mx.name,
+                g.slope_at_zero() / 1e3
+            ))
+        })
+        .collect()
 }
 
 /// The contact geometry table of a study.

@@ -16,9 +16,10 @@
 //! 5. [`continuation`] (generic: periodic orbits by shooting, Floquet multipliers,
 //!    pseudo-arclength continuation, special points) driven by [`bifurcation`] for the
 //!    wheelset: the branch of hunting cycles from the Hopf point, folds, the nonlinear
-//!    critical speed. [`system::ode`] is the integrator (Dormand–Prince 5(4), variational
-//!    equations, event location at the flange); [`simulate`] runs time histories and the
-//!    ramp method.
+//!    critical speed; [`attractors`] searches for every attractor by simulation, and
+//!    [`reconcile`] joins both methods' V_NL. [`system::ode`] is the integrator
+//!    (Dormand–Prince 5(4), variational equations, event location at the flange);
+//!    [`simulate`] runs time histories and the ramp method.
 //! 6. [`output`], [`figures`] and [`plot`]: results as JSON/CSV and SVG under `out/<study>/`.
 //! 7. [`sweep`]: the critical speeds over a grid of one or two study keys (`[sweep]`), in
 //!    parallel, resumable and sharded.
@@ -63,6 +64,7 @@ pub mod figures;
 pub mod model;
 pub mod output;
 pub mod plot;
+pub mod reconcile;
 pub mod reference;
 pub mod simulate;
 pub mod stability;

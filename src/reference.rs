@@ -226,6 +226,8 @@ pub const REFERENCE_SECONDARY: crate::model::Secondary = crate::model::Secondary
     vertical_damping: 2.0e4,
     vertical_half_spacing: 0.68,
     height: 0.6584,
+    series: crate::model::DamperSeries::RIGID,
+    yaw_damper_force_velocity: None,
 };
 
 /// The car body of the same sheet (44388 kg; the yaw inertia 5.6e6 kg m² of the sheet's

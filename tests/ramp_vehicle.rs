@@ -403,6 +403,8 @@ fn eight_states() -> Vehicle {
         },
         stiffness: [1e6, 1e6, 0.0],
         damping: [0.0; 3],
+        series_stiffness: [None; 3],
+        force_velocity: [None; 3],
     };
     Vehicle::assemble(
         Layout::Bogie,

@@ -32,6 +32,7 @@ fn spec(d: usize, n: usize, method: Method, (lo, hi): (f64, f64)) -> Uncertainty
                 key: format!("x{}", i + 1),
                 dim: critspeed::study::units::Dimension::Dimensionless,
                 distribution: Distribution::Uniform { from: lo, to: hi },
+                files: Vec::new(),
             })
             .collect(),
     }
@@ -506,4 +507,169 @@ fn failed_evaluations_are_counted_named_and_left_out_with_a_note() {
         q.notes
     );
     assert_eq!(q.indices.len(), 2);
+}
+
+/// studies/dtu-rsgeo-wheelset.toml's text and the folder its table path is relative to.
+fn rsgeo_wheelset() -> (String, std::path::PathBuf) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("studies");
+    let text =
+        std::fs::read_to_string(dir.join("dtu-rsgeo-wheelset.toml")).expect("the rsgeo study");
+    (text, dir)
+}
+
+/// A second, valid table: the tread (|y| ≤ 8.5 mm) of the DTU 1:40 table with its
+/// rolling-radius difference, roll and contact-angle change scaled by 1.5 about y = 0 (a
+/// steeper, "worn" table for the test only).
+fn scaled_table(dir: &std::path::Path) -> std::path::PathBuf {
+    let (_, studies) = rsgeo_wheelset();
+    let text = std::fs::read_to_string(studies.join("tables/dtu-rsgeo-1o40.csv")).expect("table");
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("y_m"))
+        .map(|l| -> Vec<f64> { l.split(',').map(|c| c.parse().expect("number")).collect() })
+        // the tread only (the study's lateral range is 8 mm): scaled flange angles pass 90°
+        .filter(|r| r[0].abs() <= 0.0085)
+        .collect();
+    let centre = rows
+        .iter()
+        .min_by(|a, b| a[0].abs().total_cmp(&b[0].abs()))
+        .expect("rows")
+        .clone();
+    assert!(centre[0].abs() < 1e-12, "the table has a row at y = 0");
+    let mut out = String::from("y_m,r_m,delta_rad,roll_rad,a_m,b_m,c11,c22,c23,normal_force_N\n");
+    for r in &rows {
+        let mut s = r.clone();
+        for c in [1, 2] {
+            s[c] = centre[c] + 1.5 * (r[c] - centre[c]);
+        }
+        s[3] = 1.5 * r[3];
+        let cells: Vec<String> = s.iter().map(|v| format!("{v:e}")).collect();
+        out.push_str(&cells.join(","));
+        out.push('\n');
+    }
+    let path = dir.join("scaled-1o40.csv");
+    std::fs::write(&path, out).expect("write the scaled table");
+    path
+}
+
+/// A `choice` among contact-table files (issue 33): each evaluation's table is one of the files,
+/// drawn by cumulative weights (the 16 scrambled Sobol points of block A fall one in each
+/// sixteenth of [0, 1), so weights 1 : 3 give exactly 4 and 12 of them); every CSV row names its
+/// file and its V_L equals a `linear` run of the study with that table (1e-9); the JSON lists
+/// the files; a file key refuses other distributions, numbers and missing files (exit 2 words).
+#[test]
+fn a_choice_among_table_files_sets_each_evaluations_table() {
+    let dir = scratch("unc-files");
+    let worn = scaled_table(&dir);
+    let worn_text = worn.display().to_string();
+    let (base, studies) = rsgeo_wheelset();
+    let text = format!(
+        "{base}\n[uncertainty]\nsamples = 16\nseed = 2\ncompute = [\"kalker\"]\n\n\
+         [[uncertainty.parameter]]\nkey = \"contact.geometry_table\"\ndistribution = \"choice\"\n\
+         values = [\"tables/dtu-rsgeo-1o40.csv\", {worn_text:?}]\nweights = [1, 3]\n\n\
+         [[uncertainty.parameter]]\nkey = \"suspension.longitudinal_stiffness\"\n\
+         distribution = \"uniform\"\nfrom = \"3.2 MN/m\"\nto = \"4.0 MN/m\"\n"
+    );
+    let s = UncertaintyStudy::parse_in(&text, "test", Some(&studies)).expect("study");
+    assert_eq!(s.len(), 16 * 4);
+    let rows = run_all(&s, 2);
+    let (head, cells) = read_csv(&uncertainty::uncertainty_csv(&s, &rows));
+    assert_eq!(head[2], "contact.geometry_table");
+    let files = ["tables/dtu-rsgeo-1o40.csv", worn_text.as_str()];
+    let before = text.split("[uncertainty]").next().expect("text before");
+    let mut in_a = [0, 0];
+    let mut speeds = [Vec::new(), Vec::new()];
+    for r in &cells {
+        let k = files
+            .iter()
+            .position(|f| *f == r[2])
+            .unwrap_or_else(|| panic!("row {r:?} names no file of the choice"));
+        if r[1] == "A" {
+            in_a[k] += 1;
+        }
+        let kx: f64 = r[3].parse().expect("number");
+        let one = set_by_hand(before, "longitudinal_stiffness", kx)
+            .replace("tables/dtu-rsgeo-1o40.csv", files[k]);
+        let plan = study::parse_in(&one, "one evaluation", Some(&studies)).expect("plan");
+        let model = plan.model().expect("model");
+        let lin = analysis::linear(&plan, &model).expect("linear");
+        let v = lin.kalker.critical().expect("V_L in range").speed_m_s;
+        let got: f64 = r[4].parse().expect("V_L");
+        assert!((got - v).abs() <= 1e-9, "row {}: {got} vs linear {v}", r[0]);
+        speeds[k].push(got);
+    }
+    assert_eq!(in_a, [4, 12], "block A's tables by cumulative weight");
+    // the steeper table hunts lower: the choice changed the model, not only the column
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    println!(
+        "mean V_L: {:.3} m/s on the 1:40 table ({} rows), {:.3} m/s on the scaled one ({} rows)",
+        mean(&speeds[0]),
+        speeds[0].len(),
+        mean(&speeds[1]),
+        speeds[1].len()
+    );
+    assert!(
+        mean(&speeds[1]) < mean(&speeds[0]),
+        "{:?}",
+        (mean(&speeds[0]), mean(&speeds[1]))
+    );
+    let rep = uncertainty::report(&s, &rows);
+    let json = serde_json::to_value(&rep).expect("json");
+    assert_eq!(json["parameters"][0]["files"][1], worn_text.as_str());
+    assert!(json["parameters"][1].get("files").is_none());
+    assert_eq!(rep.quantities[0].indices.len(), 2);
+
+    let choice = |values: &str, extra: &str| {
+        format!(
+            "{base}\n[uncertainty]\nsamples = 8\n\n[[uncertainty.parameter]]\n\
+             key = \"contact.geometry_table\"\n{extra}values = {values}\n"
+        )
+    };
+    let cases: Vec<(String, &[&str])> = vec![
+        (
+            choice("[\"tables/a.csv\"]", "distribution = \"uniform\"\n"),
+            &[
+                "uncertainty.parameter[0].distribution (contact.geometry_table)",
+                "only distribution \"choice\"",
+            ],
+        ),
+        (
+            choice(
+                "[\"tables/dtu-rsgeo-1o40.csv\", 0.2]",
+                "distribution = \"choice\"\n",
+            ),
+            &[
+                "values[1] (contact.geometry_table)",
+                "0.2",
+                "must be a file path",
+            ],
+        ),
+        (
+            choice(
+                "[\"tables/dtu-rsgeo-1o40.csv\", \"tables/missing.csv\"]",
+                "distribution = \"choice\"\n",
+            ),
+            &[
+                "uncertainty.parameter[0] (contact.geometry_table)",
+                "tables/missing.csv",
+                "invalid study",
+            ],
+        ),
+        (
+            choice(
+                "[\"tables/dtu-rsgeo-1o40.csv\", \"tables/dtu-rsgeo-1o40.csv\"]",
+                "distribution = \"choice\"\n",
+            ),
+            &["values[1]", "listed twice"],
+        ),
+    ];
+    for (text, words) in &cases {
+        let e = UncertaintyStudy::parse_in(text, "bad", Some(&studies)).expect_err("refused");
+        assert!(e.is_user_error(), "{e}");
+        let msg = e.to_string();
+        for w in *words {
+            assert!(msg.contains(w), "{msg:?} lacks {w:?}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -151,7 +151,7 @@ pub fn bifurcation(p: &Prepared, hooks: Hooks<'_>) -> Result<BifurcationReport, 
 
 /// The search for every attractor (`[attractors]`, or its defaults), after the continuation
 /// with branch switching whose stable cycles it starts from and matches; the continuation's
-/// report comes back with the one V_NL of both methods ([`crate::bifurcation::vnl::combine`]).
+/// report comes back with the one V_NL of both methods ([`crate::reconcile::combine`]).
 /// `progress` gets a line of text per speed and per descent.
 pub fn attractors(
     p: &Prepared,
@@ -160,7 +160,7 @@ pub fn attractors(
 ) -> Result<(crate::attractors::AttractorReport, BifurcationReport), Failure> {
     let mut b = bifurcation(p, hooks)?;
     let r = search(p, &b, hooks.cancel, progress)?;
-    crate::bifurcation::vnl::combine(&mut b, &r);
+    crate::reconcile::combine(&mut b, &r);
     Ok((r, b))
 }
 

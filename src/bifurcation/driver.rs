@@ -191,13 +191,17 @@ pub(super) fn analyse_and_track<const N: usize>(
     // each coordinate scaled by its share of the Hopf eigenvector (the leading wheelset's y is
     // 1): 1 mm of lateral amplitude ≈ 1 m/s of speed in the arclength
     let shares = coordinate_shares_of(model, &q);
+    // (a damper's stroke, beyond the velocities, is a length of the order of the motions: 1 mm)
+    let n = model.dofs();
     let mut scale: Vec<f64> = (0..N)
         .map(|i| {
-            let share = shares.get(i % (N / 2)).copied().unwrap_or(1.0);
-            if i < N / 2 {
+            let share = shares.get(i % n.max(1)).copied().unwrap_or(1.0);
+            if i < n {
                 a_ref * share
-            } else {
+            } else if i < 2 * n {
                 a_ref * omega * share
+            } else {
+                a_ref
             }
         })
         .collect();

@@ -368,8 +368,9 @@ pub fn solve_cycle<const N: usize>(
     }
     let ode = ode_options(rtol)?;
     let amplitude = |_: &OrbitPoint<N>, _: &SVector<f64, N>| 0.0;
+    let n = model.dofs();
     let mut scale: Vec<f64> = (0..N)
-        .map(|i| if i < N / 2 { 1e-3 } else { 1e-2 })
+        .map(|i| if i < n || i >= 2 * n { 1e-3 } else { 1e-2 })
         .collect();
     scale.extend([period, 1.0]);
     let mut params = ContinuationParams::new((0.0, f64::INFINITY), f64::INFINITY, scale);
@@ -455,7 +456,8 @@ pub fn analyse_with_progress(
 }
 
 /// The state components with their SI units: the 4-state names of `branch.csv` for the
-/// wheelset, `<coordinate>_m`, `<coordinate>_rad` and their rates for a vehicle.
+/// wheelset, `<coordinate>_m`, `<coordinate>_rad` and their rates for a vehicle, then its
+/// damper strokes `z_<damper>_m`.
 pub fn state_names(model: &Vehicle) -> Vec<String> {
     if model.states() == 4 {
         return ["y_m", "psi_rad", "ydot_m_s", "psidot_rad_s"]
@@ -475,7 +477,9 @@ pub fn state_names(model: &Vehicle) -> Vec<String> {
         format!("{head}{dot}_{tail}_{si}")
     };
     let pos = coordinates.iter().map(|n| unit(n, false));
+    let strokes = model.stroke_names().into_iter().map(|n| format!("{n}_m"));
     pos.chain(coordinates.iter().map(|n| unit(n, true)))
+        .chain(strokes)
         .collect()
 }
 

@@ -23,7 +23,7 @@ pub(super) fn run(
     let progress = |line: &str| statusln!("{line}");
     let r = api::search(p, &b, bifurcation_hooks().cancel, Some(&progress))?;
     let mut b = b;
-    crate::bifurcation::vnl::combine(&mut b, &r);
+    crate::reconcile::combine(&mut b, &r);
     statusln!(
         "  {} simulations, {} attractors in {:.1} s",
         r.simulations,

@@ -78,6 +78,9 @@ pub fn linear(plan: &Plan, r: &LinearReport) -> String {
     if vehicle {
         let _ = writeln!(s, "  vehicle: {} ({} states)", r.layout.0, r.layout.1);
     }
+    for note in &r.notes {
+        let _ = writeln!(s, "  note: {note}");
+    }
     let kalker_modes = vehicle.then_some(&r.kalker_modes[..]);
     crossings(
         &mut s,

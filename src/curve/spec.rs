@@ -66,7 +66,7 @@ pub fn show(key: &str, dimension: Dimension, value: f64) -> String {
 
 /// `value unit`, the value in the dimension's display unit to 6 significant digits.
 pub fn quantity(dimension: Dimension, value: f64) -> String {
-    let (unit, factor) = crate::trade::display_unit(dimension);
+    let (unit, factor) = crate::study::units::display_unit(dimension);
     let v = value * factor;
     let digits = if v == 0.0 || !v.is_finite() {
         0

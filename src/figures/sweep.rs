@@ -310,6 +310,7 @@ mod tests {
             dim: Dimension::Stiffness,
             spacing: Spacing::Linear,
             values: vec![1e5, 2e5, 3e5],
+            files: Vec::new(),
         };
         SweepSpec {
             axes: (0..axes).map(|k| axis(["a", "b"][k])).collect(),

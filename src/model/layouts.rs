@@ -22,7 +22,31 @@
 //! $F_s = −2K_{py}y − 2C_{py}\dot y$ and $M_s = −2K_{px}d^2ψ − 2C_{px}d^2\dot ψ$ of §7.
 
 use super::vehicle::{AssemblyError, Attachment, Body, BodyKind, Element, Layout, Vehicle};
-use super::Wheelset;
+use super::{ForceVelocity, Wheelset};
+
+/// The stiffness in series with each damper of a suspension (per side, N/m; docs/model.md §13):
+/// `Some` makes that damper a Maxwell element with a stroke state; `None` attaches it rigidly.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DamperSeries {
+    /// in series with the lateral damper
+    pub lateral: Option<f64>,
+    /// in series with the longitudinal damper
+    pub longitudinal: Option<f64>,
+    /// in series with the vertical damper
+    pub vertical: Option<f64>,
+    /// in series with the yaw damper (secondary only)
+    pub yaw: Option<f64>,
+}
+
+impl DamperSeries {
+    /// Every damper rigidly attached (the elements of docs/model.md §11).
+    pub const RIGID: Self = Self {
+        lateral: None,
+        longitudinal: None,
+        vertical: None,
+        yaw: None,
+    };
+}
 
 /// The primary's values beyond docs/model.md §7 (per side), SI.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -33,6 +57,8 @@ pub struct PrimaryVertical {
     pub damping: f64,
     /// height of the primary above the frame's centre of mass (m; negative below)
     pub height: f64,
+    /// the primary dampers' series stiffnesses (`yaw` unused)
+    pub series: DamperSeries,
 }
 
 /// A bogie frame, SI.
@@ -73,6 +99,11 @@ pub struct Secondary {
     pub vertical_half_spacing: f64,
     /// height of the secondary above the frame's centre of mass (m)
     pub height: f64,
+    /// the secondary dampers' series stiffnesses
+    pub series: DamperSeries,
+    /// the yaw dampers' force–velocity characteristic (on series stiffness only);
+    /// `yaw_damping` is then its slope at zero
+    pub yaw_damper_force_velocity: Option<ForceVelocity>,
 }
 
 /// The car body, SI.
@@ -123,7 +154,8 @@ impl VehicleSpec {
         }
     }
 
-    /// Number of first-order states of this layout.
+    /// Number of first-order states of this layout's bodies, $(q, \dot q)$; the dampers on
+    /// series stiffness add their strokes ([`Vehicle::states`] counts them).
     pub fn states(&self) -> usize {
         let roll = |r: Option<f64>| 2 * usize::from(r.is_some());
         match self {
@@ -172,6 +204,12 @@ fn primary(
             b: at(frame, [x_on_frame, side * d, -pv.height]),
             stiffness: [s.longitudinal_stiffness, s.lateral_stiffness, pv.stiffness],
             damping: [s.longitudinal_damping, s.lateral_damping, pv.damping],
+            series_stiffness: [
+                pv.series.longitudinal,
+                pv.series.lateral,
+                pv.series.vertical,
+            ],
+            force_velocity: [None; 3],
         });
     }
 }
@@ -185,7 +223,9 @@ fn secondary(
     car_point: (f64, f64),
 ) {
     let (xb, hc) = car_point;
-    let mut add = |what: &str, d: f64, k: [f64; 3], c: [f64; 3]| {
+    let series = &sec.series;
+    type Laws = [Option<ForceVelocity>; 3];
+    let mut add = |what: &str, d: f64, k: [f64; 3], c: [f64; 3], ks: [Option<f64>; 3], g: Laws| {
         if k.iter().chain(&c).all(|v| *v == 0.0) {
             return;
         }
@@ -196,6 +236,8 @@ fn secondary(
                 b: at(car, [xb, side * d, -hc]),
                 stiffness: k,
                 damping: c,
+                series_stiffness: ks,
+                force_velocity: g,
             });
         }
     };
@@ -204,18 +246,24 @@ fn secondary(
         sec.half_spring_spacing,
         [sec.longitudinal_stiffness, sec.lateral_stiffness, 0.0],
         [sec.longitudinal_damping, sec.lateral_damping, 0.0],
+        [series.longitudinal, series.lateral, None],
+        [None; 3],
     );
     add(
         "secondary vertical",
         sec.vertical_half_spacing,
         [0.0, 0.0, sec.vertical_stiffness],
         [0.0, 0.0, sec.vertical_damping],
+        [None, None, series.vertical],
+        [None; 3],
     );
     add(
         "yaw damper",
         sec.yaw_damper_half_spacing,
         [0.0; 3],
         [sec.yaw_damping, 0.0, 0.0],
+        [series.yaw, None, None],
+        [sec.yaw_damper_force_velocity, None, None],
     );
 }
 

@@ -9,13 +9,17 @@
 //! $$m\ddot y = F_{y,R} + F_{y,L} + F_N + F_f + F_s$$
 //! $$I_z\ddot ψ = l_0 (F_{x,L} − F_{x,R}) + M_{z,R} + M_{z,L} + M_s$$
 
+pub mod damper;
 pub mod layouts;
 #[cfg(test)]
 mod tests;
 pub mod vehicle;
 
-pub use layouts::{CarBodyParams, FrameParams, PrimaryVertical, Secondary, VehicleSpec};
-pub use vehicle::{Attachment, Body, BodyKind, Element, Layout, Vehicle};
+pub use damper::ForceVelocity;
+pub use layouts::{
+    CarBodyParams, DamperSeries, FrameParams, PrimaryVertical, Secondary, VehicleSpec,
+};
+pub use vehicle::{Attachment, Body, BodyKind, Element, Layout, Maxwell, Vehicle};
 
 use nalgebra::{Matrix4, Vector4};
 
@@ -243,9 +247,15 @@ impl crate::system::ode::VectorField<4> for Wheelset {
     }
 }
 
-/// Runs `$body` with the const `$n` set to the state size `$states` of a vehicle (4, 12, 14,
-/// 28 or 34): the analyses are generic over the state size, and this is where a run-time size
-/// picks the compiled one. Any other size evaluates `$other`.
+/// The state sizes the analyses are compiled for: the layouts' 4, 12 (14 with frame roll) and
+/// 28 (34 with roll), and those with one or two damper strokes per bogie frame (docs/model.md
+/// §13: a yaw-damper pair on series stiffness adds one stroke per frame; on the wheelset one or
+/// two, for its primary dampers). [`Vehicle::assemble`] refuses any other size.
+pub const STATE_SIZES: [usize; 14] = [4, 5, 6, 12, 13, 14, 15, 16, 28, 30, 32, 34, 36, 38];
+
+/// Runs `$body` with the const `$n` set to the state size `$states` of a vehicle (one of
+/// [`STATE_SIZES`]): the analyses are generic over the state size, and this is where a run-time
+/// size picks the compiled one. Any other size evaluates `$other`.
 #[macro_export]
 macro_rules! with_states {
     ($states:expr, $n:ident => $body:expr, _ => $other:expr) => {
@@ -254,9 +264,9 @@ macro_rules! with_states {
 }
 
 /// Runs `$body` with the const `$m` set to one more than the state size `$states` of a
-/// vehicle (5, 13, 15, 29 or 35 for 4, 12, 14, 28 or 34 states): the fields that carry the
-/// model's states and one more (the ramp's speed, [`crate::simulate::RampField`]) pick their
-/// compiled size here, beside [`with_states!`]. Any other size evaluates `$other`.
+/// vehicle (5 for 4, 13 for 12, …): the fields that carry the model's states and one more (the
+/// ramp's speed, [`crate::simulate::RampField`]) pick their compiled size here, beside
+/// [`with_states!`]. Any other size evaluates `$other`.
 #[macro_export]
 macro_rules! with_states_plus_one {
     ($states:expr, $m:ident => $body:expr, _ => $other:expr) => {
@@ -265,32 +275,23 @@ macro_rules! with_states_plus_one {
 }
 
 /// The one list of the vehicles' state sizes behind [`with_states!`] and
-/// [`with_states_plus_one!`]: `$n` is the size matched plus `$extra`.
+/// [`with_states_plus_one!`] (the sizes of [`STATE_SIZES`]): `$n` is the size matched plus
+/// `$extra`.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! with_state_sizes {
     ($states:expr, $extra:expr, $n:ident => $body:expr, _ => $other:expr) => {
+        $crate::with_state_sizes!(@arms $states, $extra, $n, $body, $other;
+            4 5 6 12 13 14 15 16 28 30 32 34 36 38)
+    };
+    (@arms $states:expr, $extra:expr, $n:ident, $body:expr, $other:expr; $($size:literal)*) => {
         match $states {
-            4 => {
-                const $n: usize = 4 + $extra;
-                $body
-            }
-            12 => {
-                const $n: usize = 12 + $extra;
-                $body
-            }
-            14 => {
-                const $n: usize = 14 + $extra;
-                $body
-            }
-            28 => {
-                const $n: usize = 28 + $extra;
-                $body
-            }
-            34 => {
-                const $n: usize = 34 + $extra;
-                $body
-            }
+            $(
+                $size => {
+                    const $n: usize = $size + $extra;
+                    $body
+                }
+            )*
             _ => $other,
         }
     };

@@ -30,7 +30,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use super::Wheelset;
+use super::{ForceVelocity, Wheelset};
 use crate::contact::creep::CreepLaw;
 use crate::system::scalar::Dual;
 
@@ -126,6 +126,70 @@ pub struct Element {
     pub stiffness: [f64; 3],
     /// damping along x, y, z (N s/m)
     pub damping: [f64; 3],
+    /// stiffness in series with the damper along x, y, z (N/m; a Maxwell element,
+    /// docs/model.md §13); `None`: the damper is rigidly attached (the spring ∥ damper above)
+    pub series_stiffness: [Option<f64>; 3],
+    /// the damper's force–velocity characteristic along x, y, z (docs/model.md §13), for a
+    /// damper on series stiffness; `None`: linear, its `damping`
+    pub force_velocity: [Option<ForceVelocity>; 3],
+}
+
+/// The stroke of a damper on series stiffness (a Maxwell element, docs/model.md §13), one
+/// state $z$: along its axis the deflection is $Δ = b\,q$, the bushes carry $F = k_s(Δ − z)$
+/// and the damper $c\,\dot z = k_s(Δ − z)$.
+///
+/// Identical dampers on the same deflection up to its sign (the right and left damper of a
+/// pair, keyed per side) share one stroke: on $z_L = ±z_R$ their forces add up exactly, and
+/// the difference of their strokes decays on its own at the rate $k_s/c$ without acting on any
+/// body (a stable eigenvalue $−k_s/c$ that is not a state). So a yaw-damper pair adds one state
+/// per bogie, and [`Maxwell::stiffness`] and [`Maxwell::damping`] are the pair's sums.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Maxwell {
+    /// e.g. `"yaw damper, frame 1"` (the element's name without its side when a pair shares it)
+    pub name: String,
+    /// the deflection $Δ = b\,q$: `(coordinate, coefficient)` pairs (m per m or per rad)
+    pub row: Vec<(usize, f64)>,
+    /// series stiffness $k_s$, summed over the dampers sharing the stroke (N/m)
+    pub stiffness: f64,
+    /// damping $c$, summed over the dampers sharing the stroke (N s/m)
+    pub damping: f64,
+    /// how many dampers share the stroke (1, or 2 for a pair)
+    pub dampers: usize,
+    /// each damper's force–velocity characteristic; `None`: linear, $c/$dampers each
+    pub law: Option<ForceVelocity>,
+}
+
+impl Maxwell {
+    /// $k_s/c$ (1/s): the stroke's relaxation rate.
+    pub fn rate(&self) -> f64 {
+        self.stiffness / self.damping
+    }
+
+    /// The deflection $Δ = b\,q$ (m) at coordinates `q`.
+    #[inline]
+    pub fn deflection(&self, q: &[f64]) -> f64 {
+        self.row.iter().fold(0.0, |s, &(j, b)| s + b * q[j])
+    }
+
+    /// The force in each damper's bushes, $k_s(Δ − z)$ (N), at coordinates `q` and stroke `z`.
+    #[inline]
+    pub fn force(&self, q: &[f64], z: f64) -> f64 {
+        self.stiffness / self.dampers as f64 * (self.deflection(q) - z)
+    }
+
+    /// The stroke rate $\dot z$ (m/s) at `q` and `z`, and the factor by which the rate's
+    /// linear form $(k_s/c)(b\,q − z)$ must be multiplied for its derivative: 1 for a linear
+    /// damper, $c/g'(\dot z)$ on a force–velocity curve.
+    #[inline]
+    pub fn rate_at(&self, q: &[f64], z: f64) -> (f64, f64) {
+        match &self.law {
+            None => (self.rate() * (self.deflection(q) - z), 1.0),
+            Some(g) => {
+                let (v, inv_slope) = g.velocity_at(self.force(q, z));
+                (v, inv_slope * self.damping / self.dampers as f64)
+            }
+        }
+    }
 }
 
 /// The assembled vehicle: bodies, elements and the common wheel–rail contact.
@@ -137,6 +201,8 @@ pub struct Vehicle {
     pub bodies: Vec<Body>,
     /// spring–damper elements
     pub elements: Vec<Element>,
+    /// the strokes of the dampers on series stiffness, in state order after $\dot q$
+    pub maxwell: Vec<Maxwell>,
     /// wheel–rail contact shared by every wheelset: geometry table, creep law, spin, flange,
     /// axle load and nominal radius (its `suspension` is the primary, per side, which the
     /// elements already hold)
@@ -145,12 +211,16 @@ pub struct Vehicle {
     wheelset_dofs: Vec<usize>,
     /// generalised mass per coordinate (kg or kg m²)
     mass: Vec<f64>,
-    /// $K$, row-major, dofs × dofs
+    /// $K$, row-major, dofs × dofs (the Maxwell elements' series stiffness $k_s b^{\mathsf T} b$
+    /// included)
     stiffness: Vec<f64>,
     /// $C$, row-major, dofs × dofs
     damping: Vec<f64>,
     /// the nonzero entries of $K$ and $C$ row by row, for $f$ (see [`Sparse`])
     sparse: [Sparse; 2],
+    /// the nonzero entries of $G$ (dofs × strokes, $G_{ik} = k_{s,k}\,b_{k,i}$): the strokes'
+    /// generalised forces $G z$
+    coupling: Sparse,
     /// the nonzero entries of the Jacobian's lower block, for $J\Phi$ (see [`Lower`])
     lower: Lower,
 }
@@ -181,22 +251,22 @@ struct Lower {
     starts: Vec<usize>,
     /// per row: `(wheelset number, 0 for its lateral force row, 1 for its yaw moment row)`
     contact: Vec<Option<(usize, usize)>>,
+    /// per row: the generalised mass it is divided by (1 for a stroke's row)
+    divisors: Vec<f64>,
 }
 
 impl Lower {
-    fn new(
-        n: usize,
-        stiffness: &[f64],
-        damping: &[f64],
-        mass: &[f64],
-        wheelsets: &[usize],
-    ) -> Self {
+    /// From the dense lower block `block` (row-major, `rows` × `cols`: the $n$ acceleration
+    /// rows, then one row per Maxwell stroke) and each row's divisor (its generalised mass; 1
+    /// for a stroke).
+    fn new(block: &[f64], cols: usize, divisors: &[f64], n: usize, wheelsets: &[usize]) -> Self {
         let mut lower = Lower {
             entries: Vec::new(),
             starts: vec![0],
-            contact: Vec::with_capacity(n),
+            contact: Vec::with_capacity(divisors.len()),
+            divisors: divisors.to_vec(),
         };
-        for i in 0..n {
+        for (i, (row, &divisor)) in block.chunks_exact(cols.max(1)).zip(divisors).enumerate() {
             let row_contact = wheelsets
                 .iter()
                 .enumerate()
@@ -206,18 +276,13 @@ impl Lower {
                 let w = wheelsets[j];
                 [w, w + 1, n + w, n + w + 1]
             });
-            for col in 0..2 * n {
-                let base = if col < n {
-                    -stiffness[i * n + col]
-                } else {
-                    -damping[i * n + col - n]
-                };
+            for (col, &base) in row.iter().enumerate() {
                 let contact = contact_cols.and_then(|c| c.iter().position(|&k| k == col));
                 if base != 0.0 || contact.is_some() {
                     lower.entries.push(LowerEntry {
                         col,
                         base,
-                        scaled: base / mass[i],
+                        scaled: base / divisor,
                         contact,
                     });
                 }
@@ -225,6 +290,11 @@ impl Lower {
             lower.starts.push(lower.entries.len());
         }
         lower
+    }
+
+    /// Number of rows: the accelerations, then the strokes.
+    fn rows(&self) -> usize {
+        self.divisors.len()
     }
 }
 
@@ -279,6 +349,19 @@ pub enum AssemblyError {
     BadElement { name: String },
     #[error("a vehicle needs at least one wheelset, listed before the other bodies")]
     NoWheelset,
+    #[error("element '{name}': a force-velocity curve needs the damper's series stiffness")]
+    CurveWithoutSeries { name: String },
+    #[error(
+        "{strokes} damper stroke(s) ({names}) give {states} states, not among the sizes the \
+         analyses are compiled for, {sizes:?}: give series stiffness to fewer dampers (one or \
+         two pairs per bogie frame)"
+    )]
+    UnsupportedStates {
+        states: usize,
+        strokes: usize,
+        names: String,
+        sizes: Vec<usize>,
+    },
 }
 
 /// Row of $B$ for one axis of an attachment's displacement, over `n` coordinates.
@@ -305,6 +388,58 @@ fn displacement_row(bodies: &[Body], at: &Attachment, axis: usize, n: usize) -> 
         }
     }
     row
+}
+
+/// Adds the stroke of a damper (series stiffness `ks`, damping `c`, deflection row `b` over the
+/// coordinates) to `strokes`, or joins it to an identical damper's on the same deflection up to
+/// its sign (see [`Maxwell`]).
+fn add_stroke(
+    strokes: &mut Vec<Maxwell>,
+    name: &str,
+    b: &[f64],
+    (ks, c): (f64, f64),
+    law: Option<&ForceVelocity>,
+) {
+    let row: Vec<(usize, f64)> = b
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| **v != 0.0)
+        .map(|(j, &v)| (j, v))
+        .collect();
+    let same = |mx: &Maxwell| {
+        let (per_k, per_c) = (
+            mx.stiffness / mx.dampers as f64,
+            mx.damping / mx.dampers as f64,
+        );
+        let equal = |sign: f64| {
+            mx.row.len() == row.len()
+                && mx
+                    .row
+                    .iter()
+                    .zip(&row)
+                    .all(|(p, r)| p.0 == r.0 && p.1 == sign * r.1)
+        };
+        per_k == ks && per_c == c && mx.law.as_ref() == law && (equal(1.0) || equal(-1.0))
+    };
+    if let Some(mx) = strokes.iter_mut().find(|mx| same(mx)) {
+        if mx.dampers == 1 {
+            if let Some((pair, _side)) = mx.name.rsplit_once(", ") {
+                mx.name = pair.to_string();
+            }
+        }
+        mx.stiffness += ks;
+        mx.damping += c;
+        mx.dampers += 1;
+        return;
+    }
+    strokes.push(Maxwell {
+        name: name.to_string(),
+        row,
+        stiffness: ks,
+        damping: c,
+        dampers: 1,
+        law: law.cloned(),
+    });
 }
 
 impl Vehicle {
@@ -349,6 +484,7 @@ impl Vehicle {
         }
         let mut stiffness = vec![0.0; n * n];
         let mut damping = vec![0.0; n * n];
+        let mut maxwell: Vec<Maxwell> = Vec::new();
         for e in &elements {
             for at in [&e.a, &e.b] {
                 if let Some(i) = at.body.filter(|&i| i >= bodies.len()) {
@@ -361,8 +497,18 @@ impl Vehicle {
             }
             let finite = e.a.point.iter().chain(&e.b.point).all(|v| v.is_finite());
             let values = e.stiffness.iter().chain(&e.damping);
-            if !finite || values.clone().any(|v| !(v.is_finite() && *v >= 0.0)) {
+            let series_ok = e
+                .series_stiffness
+                .iter()
+                .flatten()
+                .all(|k| k.is_finite() && *k > 0.0);
+            if !finite || !series_ok || values.clone().any(|v| !(v.is_finite() && *v >= 0.0)) {
                 return Err(AssemblyError::BadElement {
+                    name: e.name.clone(),
+                });
+            }
+            if (0..3).any(|a| e.force_velocity[a].is_some() && e.series_stiffness[a].is_none()) {
+                return Err(AssemblyError::CurveWithoutSeries {
                     name: e.name.clone(),
                 });
             }
@@ -374,38 +520,92 @@ impl Vehicle {
                 let ra = displacement_row(&bodies, &e.a, axis, n);
                 let rb = displacement_row(&bodies, &e.b, axis, n);
                 let b: Vec<f64> = ra.iter().zip(&rb).map(|(a, b)| a - b).collect();
+                // a damper on series stiffness is a stroke state, not a term of C (a series
+                // spring without a damper transmits nothing)
+                let series = e.series_stiffness[axis].filter(|_| c > 0.0);
+                let c_direct = if series.is_some() { 0.0 } else { c };
                 for i in (0..n).filter(|&i| b[i] != 0.0) {
                     for j in (0..n).filter(|&j| b[j] != 0.0) {
                         stiffness[i * n + j] += k * b[i] * b[j];
-                        damping[i * n + j] += c * b[i] * b[j];
+                        damping[i * n + j] += c_direct * b[i] * b[j];
                     }
+                }
+                if let Some(ks) = series.filter(|_| b.iter().any(|v| *v != 0.0)) {
+                    for i in (0..n).filter(|&i| b[i] != 0.0) {
+                        for j in (0..n).filter(|&j| b[j] != 0.0) {
+                            stiffness[i * n + j] += ks * b[i] * b[j];
+                        }
+                    }
+                    let law = e.force_velocity[axis].as_ref();
+                    add_stroke(&mut maxwell, &e.name, &b, (ks, c), law);
                 }
             }
         }
+        let m = maxwell.len();
+        let s = 2 * n + m;
+        let mut coupling = vec![0.0; n * m];
+        for (k, mx) in maxwell.iter().enumerate() {
+            for &(i, b) in &mx.row {
+                coupling[i * m + k] = mx.stiffness * b;
+            }
+        }
+        // the lower block of the Jacobian without the contact: −K, −C and G in the
+        // accelerations' rows (before the masses), the strokes' rows after them
+        let mut block = vec![0.0; (n + m) * s];
+        for i in 0..n {
+            let row = &mut block[i * s..(i + 1) * s];
+            for j in 0..n {
+                row[j] = -stiffness[i * n + j];
+                row[n + j] = -damping[i * n + j];
+            }
+            for k in 0..m {
+                row[2 * n + k] = coupling[i * m + k];
+            }
+        }
+        for (k, mx) in maxwell.iter().enumerate() {
+            let row = &mut block[(n + k) * s..(n + k + 1) * s];
+            for &(j, b) in &mx.row {
+                row[j] = mx.rate() * b;
+            }
+            row[2 * n + k] = -mx.rate();
+        }
+        if !super::STATE_SIZES.contains(&s) {
+            let names: Vec<&str> = maxwell.iter().map(|mx| mx.name.as_str()).collect();
+            return Err(AssemblyError::UnsupportedStates {
+                states: s,
+                strokes: m,
+                names: names.join("; "),
+                sizes: super::STATE_SIZES.to_vec(),
+            });
+        }
+        let divisors: Vec<f64> = mass.iter().copied().chain(vec![1.0; m]).collect();
         let sparse = [Sparse::new(&stiffness, n), Sparse::new(&damping, n)];
-        let lower = Lower::new(n, &stiffness, &damping, &mass, &wheelset_dofs);
+        let lower = Lower::new(&block, s, &divisors, n, &wheelset_dofs);
         Ok(Self {
             layout,
             bodies,
             elements,
+            maxwell,
             contact,
             wheelset_dofs,
             mass,
             stiffness,
             damping,
             sparse,
+            coupling: Sparse::new(&coupling, m),
             lower,
         })
     }
 
-    /// Number of generalised coordinates (half the state size).
+    /// Number of generalised coordinates $q$.
     pub fn dofs(&self) -> usize {
         self.mass.len()
     }
 
-    /// Number of first-order states, $2 \times$ [`Self::dofs`].
+    /// Number of first-order states: $2 \times$ [`Self::dofs`] for $(q, \dot q)$, and one per
+    /// damper stroke ([`Self::maxwell`]).
     pub fn states(&self) -> usize {
-        2 * self.mass.len()
+        2 * self.mass.len() + self.maxwell.len()
     }
 
     /// $y$ index of each wheelset, front to rear.
@@ -454,6 +654,14 @@ impl Vehicle {
         names
     }
 
+    /// Names of the damper strokes in state order, e.g. `z_yaw_damper_frame_1` (m).
+    pub fn stroke_names(&self) -> Vec<String> {
+        self.maxwell
+            .iter()
+            .map(|mx| format!("z_{}", mx.name.replace(", ", "_").replace(' ', "_")))
+            .collect()
+    }
+
     /// Contact forces of wheelset `w` (its $y$ index) at state `x`.
     #[inline]
     fn wheelset_state(&self, x: &[f64], w: usize) -> [f64; 4] {
@@ -461,24 +669,53 @@ impl Vehicle {
         [x[w], x[w + 1], x[n + w], x[n + w + 1]]
     }
 
-    /// The velocities into the upper half of `out` and the elements' forces $−Kq − C\dot q$
-    /// into the lower half (not yet divided by the masses).
+    /// The velocities into the first $n$ values of `out`, the elements' forces
+    /// $−Kq − C\dot q + Gz$ into the next $n$ (not yet divided by the masses), and the strokes'
+    /// rates $\dot z = (k_s/c)(b\,q − z)$ into the rest.
     fn elements_into(&self, x: &[f64], out: &mut [f64]) {
         let n = self.dofs();
-        let (q, qd) = x.split_at(n);
-        let (vel, acc) = out.split_at_mut(n);
+        let (q, rest) = x.split_at(n);
+        let (qd, z) = rest.split_at(n.min(rest.len()));
+        let (vel, rest) = out.split_at_mut(n);
+        let (acc, zd) = rest.split_at_mut(n.min(rest.len()));
         vel.copy_from_slice(qd);
         let [k, c] = &self.sparse;
         for (i, a) in acc.iter_mut().enumerate() {
             *a = -k.row_dot(i, q) - c.row_dot(i, qd);
         }
+        if self.maxwell.is_empty() {
+            return;
+        }
+        for (i, a) in acc.iter_mut().enumerate() {
+            *a += self.coupling.row_dot(i, z);
+        }
+        for ((d, mx), &zk) in zd.iter_mut().zip(&self.maxwell).zip(z) {
+            *d = mx.rate_at(q, zk).0;
+        }
+    }
+
+    /// Each stroke's derivative factor at state `x` ([`Maxwell::rate_at`]): 1 for a linear
+    /// damper. `None` when every damper is linear (nothing to scale).
+    fn stroke_factors(&self, x: &[f64]) -> Option<Vec<f64>> {
+        if self.maxwell.iter().all(|mx| mx.law.is_none()) {
+            return None;
+        }
+        let n = self.dofs();
+        let (q, z) = (&x[..n], x.get(2 * n..).unwrap_or(&[]));
+        Some(
+            self.maxwell
+                .iter()
+                .zip(z)
+                .map(|(mx, &zk)| mx.rate_at(q, zk).1)
+                .collect(),
+        )
     }
 
     /// $f(x; V)$ into `out`; both slices hold [`Self::states`] values.
     pub fn rhs_into(&self, x: &[f64], v: f64, out: &mut [f64]) {
         let n = self.dofs();
         self.elements_into(x, out);
-        let acc = &mut out[n..];
+        let acc = &mut out[n..2 * n];
         for &w in &self.wheelset_dofs {
             let (qy, qpsi) = self.contact.contact_forces(&self.wheelset_state(x, w), v);
             // (a + b == b + a exactly: the same sum as docs/model.md §8 written out)
@@ -512,6 +749,13 @@ impl Vehicle {
         let n = self.dofs();
         self.elements_into(x, out);
         self.elements_into(xi, d);
+        if let Some(factors) = self.stroke_factors(x) {
+            // the strokes' rows of J ξ: the linear form at ξ times each stroke's factor at x
+            let (q, z) = (&xi[..n], &xi[2 * n..]);
+            for (k, (mx, fk)) in self.maxwell.iter().zip(&factors).enumerate() {
+                d[2 * n + k] = mx.rate() * (mx.deflection(q) - z[k]) * fk;
+            }
+        }
         for &w in &self.wheelset_dofs {
             let (xw, dw) = (self.wheelset_state(x, w), self.wheelset_state(xi, w));
             let xd: [Dual<1>; 4] = std::array::from_fn(|k| Dual {
@@ -532,14 +776,19 @@ impl Vehicle {
 
     fn evaluate(&self, x: &[f64], v: f64, mut out: Option<&mut [f64]>, jac: &mut [f64]) {
         let n = self.dofs();
-        let s = 2 * n;
+        let s = self.states();
         let at = |r: usize, c: usize| c * s + r;
         jac.fill(0.0);
         for i in 0..n {
             jac[at(i, n + i)] = 1.0;
-            for j in 0..n {
-                jac[at(n + i, j)] = -self.stiffness[i * n + j];
-                jac[at(n + i, n + j)] = -self.damping[i * n + j];
+        }
+        // the lower block without the contact, as assembled (−K, −C, G; the strokes' rows)
+        let lower = &self.lower;
+        let factors = self.stroke_factors(x);
+        for i in 0..lower.rows() {
+            let factor = factors.as_ref().and_then(|f| f.get(i.wrapping_sub(n)));
+            for e in &lower.entries[lower.starts[i]..lower.starts[i + 1]] {
+                jac[at(n + i, e.col)] = factor.map_or(e.base, |f| e.base * f);
             }
         }
         if let Some(out) = out.as_deref_mut() {
@@ -566,7 +815,7 @@ impl Vehicle {
             }
         }
         if let Some(out) = out {
-            for (a, m) in out[n..].iter_mut().zip(&self.mass) {
+            for (a, m) in out[n..2 * n].iter_mut().zip(&self.mass) {
                 *a /= m;
             }
         }
@@ -598,6 +847,54 @@ impl Vehicle {
         } else {
             -y - c
         }
+    }
+
+    /// Number of switching functions: the flange dead bands' ([`Self::flange_switch`]), then
+    /// two per knee of each stroke's force–velocity curve.
+    pub fn switches(&self) -> usize {
+        let flange = if self.contact.flange.is_some() {
+            2 * self.wheelset_dofs.len()
+        } else {
+            0
+        };
+        let knees: usize = self
+            .maxwell
+            .iter()
+            .map(|mx| mx.law.as_ref().map_or(0, |g| 2 * g.knee_forces().len()))
+            .sum();
+        flange + knees
+    }
+
+    /// Switching function `k` of [`Self::switches`] at state `x` (NaN if `k` or `x` is out of
+    /// range): the flange's, then for each stroke on a curve and each knee $F_i$ of it,
+    /// $F − F_i$ and $−F − F_i$ with $F = k_s(Δ − z)$ the force in each damper, written with the
+    /// comparisons of [`ForceVelocity::velocity_at`] so that the sign changes exactly where
+    /// the curve's segment does.
+    pub fn switch(&self, k: usize, x: &[f64]) -> f64 {
+        let flange = if self.contact.flange.is_some() {
+            2 * self.wheelset_dofs.len()
+        } else {
+            0
+        };
+        if k < flange {
+            return self.flange_switch(k, x);
+        }
+        let n = self.dofs();
+        let mut k = k - flange;
+        for (j, mx) in self.maxwell.iter().enumerate() {
+            let Some(g) = &mx.law else { continue };
+            let knees = g.knee_forces();
+            if k < 2 * knees.len() {
+                let (Some(q), Some(&z)) = (x.get(..n), x.get(2 * n + j)) else {
+                    return f64::NAN;
+                };
+                let f = mx.force(q, z);
+                let fi = knees[k / 2];
+                return if k.is_multiple_of(2) { f - fi } else { -f - fi };
+            }
+            k -= 2 * knees.len();
+        }
+        f64::NAN
     }
 
     /// Sum of guiding forces ΣY (N) of each wheelset at state `x` (EN 14363): the lateral
@@ -673,17 +970,13 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
         v: f64,
         phi: &SMatrix<f64, N, N>,
     ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
-        if N != self.states()
-            || !N.is_multiple_of(2)
-            || N <= 8
-            || self.wheelset_dofs.len() > MAX_WHEELSETS
-        {
+        if N != self.states() || N <= 8 || self.wheelset_dofs.len() > MAX_WHEELSETS {
             // (the single wheelset: the dense product, cheaper than gathering at this size;
             // a wrong N: NaN everywhere)
             let (f, j) = <Self as crate::system::ode::VectorField<N>>::rhs_jacobian(self, x, v);
             return (f, j * phi);
         }
-        let n = N / 2;
+        let n = self.dofs();
         let xs = x.as_slice();
         // f as `rhs_into` forms it, and each wheelset's contact derivatives from the same
         // dual-number evaluation (its real part is the force that f gets)
@@ -701,21 +994,24 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
                 *p = [qy.eps, qpsi.eps];
             }
         }
-        for (a, m) in out[n..].iter_mut().zip(&self.mass) {
+        for (a, m) in out[n..2 * n].iter_mut().zip(&self.mass) {
             *a /= m;
         }
         // the lower block's entries, row by row, as the dense Jacobian holds them
         let lower = &self.lower;
+        let factors = self.stroke_factors(xs);
         let mut values = SMatrix::<f64, N, N>::zeros();
         let vals = values.as_mut_slice();
-        for i in 0..n {
+        for i in 0..lower.rows() {
             let row = lower.starts[i]..lower.starts[i + 1];
+            let factor = factors.as_ref().and_then(|f| f.get(i.wrapping_sub(n)));
             for (slot, e) in vals[row.clone()].iter_mut().zip(&lower.entries[row]) {
-                *slot = match (e.contact, lower.contact[i]) {
-                    (Some(k), Some((j, side))) => {
+                *slot = match (e.contact, lower.contact[i], factor) {
+                    (Some(k), Some((j, side)), _) => {
                         let d = partials.get(j).map_or(f64::NAN, |p| p[side][k]);
-                        (e.base + d) / self.mass[i]
+                        (e.base + d) / lower.divisors[i]
                     }
+                    (_, _, Some(f)) => e.scaled * f,
                     _ => e.scaled,
                 };
             }
@@ -725,7 +1021,7 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
         for (c, col) in out.as_mut_slice().chunks_exact_mut(N).enumerate() {
             let pc = &ps[c * N..(c + 1) * N];
             let (top, bottom) = col.split_at_mut(n);
-            top.copy_from_slice(&pc[n..]);
+            top.copy_from_slice(&pc[n..2 * n]);
             for (i, o) in bottom.iter_mut().enumerate() {
                 let row = lower.starts[i]..lower.starts[i + 1];
                 *o = lower.entries[row.clone()]
@@ -737,14 +1033,10 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
         (f, out)
     }
     fn switch_count(&self) -> usize {
-        if self.contact.flange.is_some() {
-            2 * self.wheelset_dofs.len()
-        } else {
-            0
-        }
+        self.switches()
     }
     fn switch_value(&self, k: usize, x: &SVector<f64, N>) -> f64 {
-        self.flange_switch(k, x.as_slice())
+        self.switch(k, x.as_slice())
     }
 }
 

@@ -133,6 +133,7 @@ pub fn linear_json(r: &LinearReport) -> Value {
         "klingel_wavelength_m": r.klingel_wavelength_m,
         "kalker": details_json(&r.kalker, &r.kalker_modes, &r.kalker_lyapunov),
         "creep_law_details": details_json(law, law_modes, r.law_lyapunov()),
+        "notes": r.notes,
     })
 }
 

@@ -344,7 +344,7 @@ impl<const M: usize> VectorField<M> for RampField<'_> {
         if !self.fits(M) {
             return f64::NAN;
         }
-        self.model.flange_switch(k, &x.as_slice()[..M - 1])
+        self.model.switch(k, &x.as_slice()[..M - 1])
     }
 }
 

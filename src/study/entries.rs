@@ -105,6 +105,23 @@ impl Section<'_> {
         }
     }
 
+    /// the dampers' series stiffnesses (`yaw`: the secondary's yaw damper too)
+    fn series(&mut self, d: &crate::model::DamperSeries, yaw: bool) {
+        let mut one = |what: &str, k: Option<f64>| {
+            let key = format!("{what}_damper_series_stiffness");
+            match k {
+                Some(k) => self.num(&key, k, Stiffness),
+                None => self.text(&key, "none (damper rigidly attached)"),
+            }
+        };
+        one("lateral", d.lateral);
+        one("longitudinal", d.longitudinal);
+        one("vertical", d.vertical);
+        if yaw {
+            one("yaw", d.yaw);
+        }
+    }
+
     /// the five keys the primary and the secondary share
     fn springs(&mut self, k: [f64; 4], spacing: f64) {
         self.num("lateral_stiffness", k[0], Stiffness);
@@ -149,6 +166,7 @@ pub fn entries(p: &Plan) -> Vec<Entry> {
     );
     s.num("vertical_damping", p.primary_vertical.damping, Damping);
     s.num("height", p.primary_vertical.height, Length);
+    s.series(&p.primary_vertical.series, false);
     vehicle(&mut out, &p.vehicle);
     contact(&mut out, p);
     let mut s = Section {
@@ -278,6 +296,7 @@ fn secondary(out: &mut Vec<Entry>, c: &Secondary) {
     s.num("vertical_damping", c.vertical_damping, Damping);
     s.num("vertical_half_spacing", c.vertical_half_spacing, Length);
     s.num("height", c.height, Length);
+    s.series(&c.series, true);
 }
 
 fn carbody(out: &mut Vec<Entry>, b: &CarBodyParams) {

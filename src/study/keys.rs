@@ -5,8 +5,9 @@
 //! struct's field list) and answers every field with a placeholder value, so that nested
 //! sections are visited too. A field added to any schema struct therefore appears here without
 //! further registration; the documentation test (`tests/docs.rs`) then demands that the user
-//! guide names it. Keys of the `[trade]` table, which its own parser reads, come from
-//! [`crate::trade::plan`]'s key lists.
+//! guide names it. Keys of the `[trade]` table, which the trade module's own parser reads
+//! from the raw table, are listed here ([`TRADE_KEYS`], [`CONSTRAINT_KEYS`]) so that the
+//! study layer does not depend on the trade layer above it.
 //!
 //! Keys are dotted paths as written in a study file: `wheelset.mass`,
 //! `contact.creep_coefficients.f11`; a section is listed as well (`contact.creep_coefficients`);
@@ -15,6 +16,11 @@
 use serde::de::{self, DeserializeSeed, Deserializer, IntoDeserializer, Visitor};
 
 use super::schema::StudyFile;
+
+/// The keys of a `[trade]` table (read by the trade module's parser, not by serde).
+pub const TRADE_KEYS: &[&str] = &["minimize", "maximize", "constraints", "pareto", "method"];
+/// The keys of one of a `[trade]` table's `constraints`.
+pub const CONSTRAINT_KEYS: &[&str] = &["result", "axis", "at_least", "at_most", "factor"];
 
 /// Every study key and section, sorted.
 ///
@@ -29,10 +35,10 @@ pub fn study_keys() -> Result<Vec<String>, String> {
     };
     <StudyFile as serde::Deserialize>::deserialize(tracer)
         .map_err(|e| format!("the study schema cannot be traced: {e}"))?;
-    for k in crate::trade::plan::TRADE_KEYS {
+    for k in TRADE_KEYS {
         keys.push(format!("trade.{k}"));
     }
-    for k in crate::trade::plan::CONSTRAINT_KEYS {
+    for k in CONSTRAINT_KEYS {
         keys.push(format!("trade.constraints[].{k}"));
     }
     keys.push("trade".into());

@@ -142,6 +142,8 @@ const fn row(
 
 const STIFFNESS: Bounds = Bounds::closed(0.0, 1e11);
 const DAMPING: Bounds = Bounds::closed(0.0, 1e9);
+/// a series stiffness is positive (absent is rigid); beyond 1e11 N/m it is rigid to f64
+const SERIES: Bounds = Bounds::left_open(0.0, 1e11);
 const SPACING: Bounds = Bounds::closed(1e-3, 20.0);
 const HEIGHT: Bounds = Bounds::closed(-10.0, 10.0);
 const SPEED: Bounds = Bounds::closed(1e-3, 1e5);
@@ -206,13 +208,34 @@ macro_rules! springs {
                 HEIGHT,
                 "heights within a bogie frame",
             ),
+            row(
+                concat!($p, ".lateral_damper_series_stiffness"),
+                Stiffness,
+                (1e5, 1e9),
+                SERIES,
+                "rubber end bushes of dampers, soft to stiff",
+            ),
+            row(
+                concat!($p, ".longitudinal_damper_series_stiffness"),
+                Stiffness,
+                (1e5, 1e9),
+                SERIES,
+                "rubber end bushes of dampers, soft to stiff",
+            ),
+            row(
+                concat!($p, ".vertical_damper_series_stiffness"),
+                Stiffness,
+                (1e5, 1e9),
+                SERIES,
+                "rubber end bushes of dampers, soft to stiff",
+            ),
         ]
     };
 }
 
 /// The spring sections' rows, per side: the primary and the secondary share their keys.
 #[rustfmt::skip]
-const SPRINGS: [[Range; 8]; 2] = [springs!("suspension", "primary"), springs!("secondary", "secondary")];
+const SPRINGS: [[Range; 11]; 2] = [springs!("suspension", "primary"), springs!("secondary", "secondary")];
 
 /// Every range but the spring sections'. Why the numbers: see each `why`; stiffnesses end at
 /// 1e11 N/m (a steel bar is about 1e9 N/m, a Hertz contact 1e9 N/m), dampings at 1e9 N s/m,
@@ -244,6 +267,8 @@ const OTHERS: &[Range] = &[
     // [secondary]: its own keys (the shared ones are in SPRINGS)
     row("secondary.yaw_damping", Damping, (0.0, 1e7), DAMPING,
         "yaw dampers, up to the stiffest high-speed ones"),
+    row("secondary.yaw_damper_series_stiffness", Stiffness, (1e6, 1e9), SERIES,
+        "yaw dampers' end bushes (5 to 20 MN/m on high-speed cars)"),
     row("secondary.yaw_damper_half_spacing", Length, (0.3, 2.0), SPACING,
         "yaw dampers within the vehicle's width"),
     row("secondary.vertical_half_spacing", Length, (0.3, 2.0), SPACING,

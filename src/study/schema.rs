@@ -76,7 +76,7 @@ pub struct WheelsetSection {
 /// secondary (`[secondary]`) share, then the section's own optional keys. One definition, so
 /// that the two cannot drift apart; each struct still denies unknown keys.
 macro_rules! springs_section {
-    ($(#[$meta:meta])* $name:ident { $($(#[$fmeta:meta])* $field:ident),* $(,)? }) => {
+    ($(#[$meta:meta])* $name:ident { $($(#[$fmeta:meta])* $field:ident: $ty:ty),* $(,)? }) => {
         $(#[$meta])*
         #[derive(Clone, Debug, Deserialize)]
         #[serde(deny_unknown_fields)]
@@ -100,10 +100,19 @@ macro_rules! springs_section {
             /// height above the frame's centre of mass (frame roll only)
             #[serde(default)]
             pub height: Option<Quantity>,
+            /// stiffness in series with the lateral damper (a Maxwell element)
+            #[serde(default)]
+            pub lateral_damper_series_stiffness: Option<Quantity>,
+            /// stiffness in series with the longitudinal damper
+            #[serde(default)]
+            pub longitudinal_damper_series_stiffness: Option<Quantity>,
+            /// stiffness in series with the vertical damper
+            #[serde(default)]
+            pub vertical_damper_series_stiffness: Option<Quantity>,
             $(
                 $(#[$fmeta])*
                 #[serde(default)]
-                pub $field: Option<Quantity>,
+                pub $field: Option<$ty>,
             )*
         }
 
@@ -116,6 +125,11 @@ macro_rules! springs_section {
                     half_spring_spacing: &self.half_spring_spacing,
                     vertical: [self.vertical_stiffness.as_ref(), self.vertical_damping.as_ref()],
                     height: self.height.as_ref(),
+                    series: [
+                        self.lateral_damper_series_stiffness.as_ref(),
+                        self.longitudinal_damper_series_stiffness.as_ref(),
+                        self.vertical_damper_series_stiffness.as_ref(),
+                    ],
                 }
             }
         }
@@ -135,6 +149,8 @@ pub struct Springs<'a> {
     pub vertical: [Option<&'a Quantity>; 2],
     /// height, when given
     pub height: Option<&'a Quantity>,
+    /// the stiffnesses in series with the lateral, longitudinal and vertical dampers, when given
+    pub series: [Option<&'a Quantity>; 3],
 }
 
 springs_section!(
@@ -146,13 +162,34 @@ springs_section!(
     /// `[secondary]`: per side, frame to car body (track-fixed for a bogie).
     SecondarySection {
         /// longitudinal yaw dampers per side
-        yaw_damping,
+        yaw_damping: Quantity,
+        /// stiffness in series with each yaw damper (its end bushes)
+        yaw_damper_series_stiffness: Quantity,
+        /// the yaw dampers' force–velocity characteristic
+        yaw_damper_force_velocity: ForceVelocitySection,
         /// half the lateral distance between the yaw dampers
-        yaw_damper_half_spacing,
+        yaw_damper_half_spacing: Quantity,
         /// half the lateral distance between the vertical springs
-        vertical_half_spacing,
+        vertical_half_spacing: Quantity,
     }
 );
+
+/// A damper's force–velocity characteristic: either `points` (velocity, force) for v > 0, or
+/// the blow-off form `blow_off_force` and `slope_after` (the slope below the blow-off is the
+/// section's damping key).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ForceVelocitySection {
+    /// `[[velocity, force], …]` for v > 0, odd-extended through zero
+    #[serde(default)]
+    pub points: Option<Vec<[Quantity; 2]>>,
+    /// the force at which the relief valve opens
+    #[serde(default)]
+    pub blow_off_force: Option<Quantity>,
+    /// the slope beyond the blow-off
+    #[serde(default)]
+    pub slope_after: Option<Quantity>,
+}
 
 /// `[vehicle]`: which layout the study describes.
 #[derive(Clone, Debug, Deserialize)]

@@ -148,6 +148,19 @@ impl fmt::Display for Dimension {
     }
 }
 
+/// A convenient display unit for a dimension: `(unit, factor)` with display = SI × factor
+/// (reports of curves and trades, and their figures).
+pub fn display_unit(dim: Dimension) -> (&'static str, f64) {
+    match dim {
+        Dimension::Stiffness => ("N/mm", 1e-3),
+        Dimension::Damping => ("N s/mm", 1e-3),
+        Dimension::Length => ("mm", 1e3),
+        Dimension::Pressure => ("GPa", 1e-9),
+        Dimension::Dimensionless => ("-", 1.0),
+        d => (d.si_unit(), 1.0),
+    }
+}
+
 /// Why a quantity string could not be read.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum UnitProblem {

@@ -2,11 +2,12 @@
 //! and `[secondary]` share their keys and their reading): the layout of docs/model.md §11, in SI,
 //! checked.
 
-use super::schema::{Quantity, Springs, StudyFile};
+use super::schema::{ForceVelocitySection, Quantity, Springs, StudyFile};
 use super::units::Dimension;
 use super::{checked, non_negative, positive, rule, StudyError};
 use crate::model::{
-    CarBodyParams, FrameParams, PrimaryVertical, Secondary, Suspension, VehicleSpec,
+    CarBodyParams, DamperSeries, ForceVelocity, FrameParams, PrimaryVertical, Secondary,
+    Suspension, VehicleSpec,
 };
 
 fn opt(
@@ -48,6 +49,78 @@ pub(super) fn springs(prefix: &str, s: Springs<'_>) -> Result<Suspension, StudyE
     })
 }
 
+/// A spring section's series stiffnesses of its lateral, longitudinal and vertical dampers
+/// (absent: rigid), and `yaw` as given (the secondary's yaw dampers).
+fn series(
+    prefix: &str,
+    s: Springs<'_>,
+    yaw: Option<&Quantity>,
+) -> Result<DamperSeries, StudyError> {
+    let key = |k: &str| format!("{prefix}.{k}_damper_series_stiffness");
+    let [lateral, longitudinal, vertical] = s.series;
+    let get = |what: &str, q: Option<&Quantity>| opt(&key(what), q, Dimension::Stiffness, positive);
+    Ok(DamperSeries {
+        lateral: get("lateral", lateral)?,
+        longitudinal: get("longitudinal", longitudinal)?,
+        vertical: get("vertical", vertical)?,
+        yaw: get("yaw", yaw)?,
+    })
+}
+
+/// The yaw dampers' force–velocity curve and the damping at zero (N s/m) it implies, from
+/// `fv` and the section's `secondary.yaw_damping` (`given`): the blow-off form's first slope is
+/// `given` (required); a table's forces are scaled so that its slope at zero is `given` when
+/// that is set (the table gives the curve's shape, the damping key its size, so that it can be
+/// swept), and are taken as written otherwise.
+fn force_velocity(
+    fv: &ForceVelocitySection,
+    given: Option<f64>,
+) -> Result<(f64, ForceVelocity), StudyError> {
+    use Dimension::*;
+    const KEY: &str = "secondary.yaw_damper_force_velocity";
+    let key = |k: &str| format!("{KEY}.{k}");
+    let bad = |k: &str, e: String| rule(&key(k), "as given", &e);
+    match (&fv.points, &fv.blow_off_force, &fv.slope_after) {
+        (Some(points), None, None) => {
+            let mut pts = Vec::with_capacity(points.len());
+            for (i, [v, f]) in points.iter().enumerate() {
+                let k = key(&format!("points[{i}]"));
+                pts.push((
+                    checked(&k, v, Speed, |v| v.is_finite(), "must be finite")?,
+                    checked(&k, f, Force, |v| v.is_finite(), "must be finite")?,
+                ));
+            }
+            let g = ForceVelocity::from_points(&pts).map_err(|e| bad("points", e))?;
+            match given {
+                Some(c) if c > 0.0 => Ok((c, g.scaled(c / g.slope_at_zero()))),
+                Some(c) => Err(rule(
+                    "secondary.yaw_damping",
+                    format!("{c} N s/m"),
+                    "must be positive with a force-velocity curve (it scales the curve)",
+                )),
+                None => Ok((g.slope_at_zero(), g)),
+            }
+        }
+        (None, Some(force), Some(after)) => {
+            let force = positive(&key("blow_off_force"), force, Force)?;
+            let after = positive(&key("slope_after"), after, Damping)?;
+            let c = given
+                .filter(|c| *c > 0.0)
+                .ok_or_else(|| StudyError::Missing {
+                    key: "secondary.yaw_damping".into(),
+                    why: format!("{KEY}'s blow-off form takes its first slope from it (> 0)"),
+                })?;
+            let g = ForceVelocity::blow_off(c, force / c, after).map_err(|e| bad("", e))?;
+            Ok((c, g))
+        }
+        _ => Err(rule(
+            KEY,
+            "as given",
+            "give either points = [[velocity, force], ...] or both blow_off_force and slope_after",
+        )),
+    }
+}
+
 /// A spring section's vertical stiffness and damping (default 0) and height (default 0).
 fn vertical(prefix: &str, s: Springs<'_>) -> Result<PrimaryVertical, StudyError> {
     use Dimension::*;
@@ -68,6 +141,7 @@ fn vertical(prefix: &str, s: Springs<'_>) -> Result<PrimaryVertical, StudyError>
         )?
         .unwrap_or(0.0),
         height: height(&key("height"), s.height)?,
+        series: series(prefix, s, None)?,
     })
 }
 
@@ -130,6 +204,27 @@ fn secondary(f: &StudyFile) -> Result<Secondary, StudyError> {
         Length,
         positive,
     )?;
+    let series = series(
+        "secondary",
+        s.springs(),
+        s.yaw_damper_series_stiffness.as_ref(),
+    )?;
+    let (yaw_damping, curve) = match &s.yaw_damper_force_velocity {
+        None => (yaw_damping, None),
+        Some(fv) => {
+            let (c, g) = force_velocity(fv, yaw_damping)?;
+            (Some(c), Some(g))
+        }
+    };
+    if curve.is_some() && series.yaw.is_none() {
+        return Err(StudyError::Missing {
+            key: "secondary.yaw_damper_series_stiffness".into(),
+            why: "secondary.yaw_damper_force_velocity acts on the damper's stroke, which needs \
+                  the bushes' series stiffness (a rigidly attached nonlinear damper: give a \
+                  stiff one, e.g. 1e9 N/m)"
+                .into(),
+        });
+    }
     if yaw_damping.is_some_and(|c| c > 0.0) && yaw_spacing.is_none() {
         return Err(StudyError::Missing {
             key: "secondary.yaw_damper_half_spacing".into(),
@@ -154,6 +249,8 @@ fn secondary(f: &StudyFile) -> Result<Secondary, StudyError> {
         )?
         .unwrap_or(spacing),
         height: v.height,
+        series,
+        yaw_damper_force_velocity: curve,
     })
 }
 

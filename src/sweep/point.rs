@@ -419,7 +419,7 @@ fn with_descents(
         .descents_only();
     opts.parallel = false;
     if let Ok(s) = crate::attractors::search(&plan.name, model, &opts, Some(&r)) {
-        bifurcation::vnl::combine(&mut r, &s);
+        crate::reconcile::combine(&mut r, &s);
     }
     r
 }

@@ -21,6 +21,18 @@ pub const SWEEP_KEYS: &[(&str, Dimension)] = &[
     ("suspension.vertical_stiffness", Dimension::Stiffness),
     ("suspension.vertical_damping", Dimension::Damping),
     ("suspension.height", Dimension::Length),
+    (
+        "suspension.lateral_damper_series_stiffness",
+        Dimension::Stiffness,
+    ),
+    (
+        "suspension.longitudinal_damper_series_stiffness",
+        Dimension::Stiffness,
+    ),
+    (
+        "suspension.vertical_damper_series_stiffness",
+        Dimension::Stiffness,
+    ),
     ("bogie.mass", Dimension::Mass),
     ("bogie.yaw_inertia", Dimension::Inertia),
     ("bogie.roll_inertia", Dimension::Inertia),
@@ -36,6 +48,22 @@ pub const SWEEP_KEYS: &[(&str, Dimension)] = &[
     ("secondary.vertical_damping", Dimension::Damping),
     ("secondary.vertical_half_spacing", Dimension::Length),
     ("secondary.height", Dimension::Length),
+    (
+        "secondary.lateral_damper_series_stiffness",
+        Dimension::Stiffness,
+    ),
+    (
+        "secondary.longitudinal_damper_series_stiffness",
+        Dimension::Stiffness,
+    ),
+    (
+        "secondary.vertical_damper_series_stiffness",
+        Dimension::Stiffness,
+    ),
+    (
+        "secondary.yaw_damper_series_stiffness",
+        Dimension::Stiffness,
+    ),
     ("carbody.mass", Dimension::Mass),
     ("carbody.yaw_inertia", Dimension::Inertia),
     ("carbody.roll_inertia", Dimension::Inertia),
@@ -59,6 +87,19 @@ pub const SWEEP_KEYS: &[(&str, Dimension)] = &[
     ("flange.clearance", Dimension::Length),
     ("flange.stiffness", Dimension::Stiffness),
 ];
+
+/// The study keys whose value is a file (relative to the study file): an uncertainty study may
+/// draw them from a `choice` of files; a grid sweep cannot vary them (they have no order).
+pub const FILE_KEYS: &[&str] = &[
+    "contact.geometry_table",
+    "contact.wheel_profile",
+    "contact.rail_profile",
+];
+
+/// Whether `key` takes a file ([`FILE_KEYS`]).
+pub fn is_file_key(key: &str) -> bool {
+    FILE_KEYS.contains(&key)
+}
 
 /// The dimension of a sweepable key, or `None` when the key cannot be swept.
 pub fn key_dimension(key: &str) -> Option<Dimension> {
@@ -99,11 +140,25 @@ pub struct Axis {
     pub dim: Dimension,
     /// spacing
     pub spacing: Spacing,
-    /// the values, SI units of `dim`
+    /// the values, SI units of `dim`; for a file axis (`files` not empty) the indices of the
+    /// files (0, 1, …)
     pub values: Vec<f64>,
+    /// for a file key ([`FILE_KEYS`]): the files (as written in the study, relative to its
+    /// folder) that the values index; empty for a numeric key
+    pub files: Vec<String>,
 }
 
 impl Axis {
+    /// The file that value `v` of a file axis stands for (`None` for a numeric axis or an index
+    /// out of range).
+    pub fn file(&self, v: f64) -> Option<&str> {
+        if !(v.is_finite() && v >= 0.0) {
+            return None;
+        }
+        // the values of a file axis are whole indices; round off any representation error
+        self.files.get(v.round() as usize).map(String::as_str)
+    }
+
     /// The CSV column name: key plus SI unit suffix.
     pub fn column(&self) -> String {
         format!("{}{}", self.key, unit_suffix(self.dim))
@@ -257,6 +312,7 @@ fn resolve_axis(i: usize, a: &SweepAxisSection) -> Result<Axis, SweepError> {
         dim,
         spacing,
         values: grid(from, to, a.count, spacing),
+        files: Vec::new(),
     })
 }
 
@@ -382,6 +438,7 @@ mod tests {
             dim: Dimension::Dimensionless,
             spacing: Spacing::Linear,
             values,
+            files: Vec::new(),
         };
         let spec = SweepSpec {
             axes: vec![axis("a", vec![1.0, 2.0, 3.0]), axis("b", vec![10.0, 20.0])],

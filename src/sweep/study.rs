@@ -6,7 +6,7 @@ use crate::model::Vehicle;
 use crate::study::schema::{Quantity, StudyFile};
 use crate::study::{self, Plan};
 
-use super::spec::{resolve, SweepSpec, SWEEP_KEYS};
+use super::spec::{resolve, Axis, SweepSpec, SWEEP_KEYS};
 use super::SweepError;
 
 /// A study with its sweep: the base plan and model, and the means to make each point's plan.
@@ -35,6 +35,11 @@ pub struct SweepStudy {
 
 /// Sets a dotted key in a TOML table, creating sub-tables as needed.
 pub(crate) fn set_key(t: &mut toml::Table, key: &str, value: f64) {
+    set_value(t, key, toml::Value::Float(value));
+}
+
+/// Sets a dotted key to any TOML value, creating sub-tables as needed.
+fn set_value(t: &mut toml::Table, key: &str, value: toml::Value) {
     let mut parts: Vec<&str> = key.split('.').collect();
     let last = parts.pop().unwrap_or(key);
     let mut cur = t;
@@ -50,7 +55,25 @@ pub(crate) fn set_key(t: &mut toml::Table, key: &str, value: f64) {
             _ => unreachable!("made a table above"),
         };
     }
-    cur.insert(last.to_string(), toml::Value::Float(value));
+    cur.insert(last.to_string(), value);
+}
+
+/// Sets an axis's key to value `v`: the SI number, or for a file axis the file it indexes.
+fn set_axis(t: &mut toml::Table, axis: &Axis, v: f64) -> Result<(), study::StudyError> {
+    if axis.files.is_empty() {
+        set_key(t, &axis.key, v);
+        return Ok(());
+    }
+    let file = axis.file(v).ok_or_else(|| study::StudyError::Rule {
+        key: axis.key.clone(),
+        value: v.to_string(),
+        rule: format!(
+            "is not the index of one of its {} files (a records file of another design?)",
+            axis.files.len()
+        ),
+    })?;
+    set_value(t, &axis.key, toml::Value::String(file.to_string()));
+    Ok(())
 }
 
 /// Replaces each sweepable quantity written with a unit by its SI number (the value the
@@ -220,14 +243,16 @@ impl SweepStudy {
         for (i, a) in self.spec.axes.iter().enumerate() {
             for v in &a.values {
                 let mut t = self.table.clone();
-                set_key(&mut t, &a.key, *v);
-                self.plan_of(t).map_err(|e| SweepError::Axis {
-                    axis: format!("sweep.axes[{i}] ({})", a.key),
-                    rule: format!(
-                        "value {} gives an invalid study: {e}",
-                        format!("{v} {}", a.dim.si_unit()).trim_end()
-                    ),
-                })?;
+                let shown = match a.file(*v) {
+                    Some(f) => format!("{f:?}"),
+                    None => format!("{v} {}", a.dim.si_unit()).trim_end().to_string(),
+                };
+                set_axis(&mut t, a, *v)
+                    .and_then(|()| self.plan_of(t))
+                    .map_err(|e| SweepError::Axis {
+                        axis: format!("sweep.axes[{i}] ({})", a.key),
+                        rule: format!("value {shown} gives an invalid study: {e}"),
+                    })?;
             }
         }
         Ok(())
@@ -250,14 +275,11 @@ impl SweepStudy {
 
     /// The validated plan with each axis key set to `values` (SI, in axis order).
     pub fn plan_with(&self, values: &[f64]) -> Result<Plan, study::StudyError> {
-        let pairs: Vec<(&str, f64)> = self
-            .spec
-            .axes
-            .iter()
-            .zip(values)
-            .map(|(a, v)| (a.key.as_str(), *v))
-            .collect();
-        self.point_plan_at(&pairs)
+        let mut t = self.table.clone();
+        for (a, v) in self.spec.axes.iter().zip(values) {
+            set_axis(&mut t, a, *v)?;
+        }
+        self.plan_of(t)
     }
 
     /// The validated plan of the study with each `(key, value)` set (SI values of sweepable

@@ -214,14 +214,5 @@ pub fn axis_dimension(key: &str) -> Option<Dimension> {
     crate::sweep::spec::key_dimension(key)
 }
 
-/// A convenient display unit for a dimension: `(unit, factor)` with display = SI × factor.
-pub fn display_unit(dim: Dimension) -> (&'static str, f64) {
-    match dim {
-        Dimension::Stiffness => ("N/mm", 1e-3),
-        Dimension::Damping => ("N s/mm", 1e-3),
-        Dimension::Length => ("mm", 1e3),
-        Dimension::Pressure => ("GPa", 1e-9),
-        Dimension::Dimensionless => ("-", 1.0),
-        d => (d.si_unit(), 1.0),
-    }
-}
+/// A convenient display unit for a dimension ([`crate::study::units::display_unit`]).
+pub use crate::study::units::display_unit;

@@ -22,10 +22,9 @@ use super::{axis_dimension, Constraint, Method, Objective, ResultKind, Sense, Ta
 use crate::study::units::{parse_quantity, Dimension};
 use crate::study::StudyError;
 
-/// The keys of a `[trade]` table.
-pub const TRADE_KEYS: &[&str] = &["minimize", "maximize", "constraints", "pareto", "method"];
-/// The keys of one of its `constraints`.
-pub const CONSTRAINT_KEYS: &[&str] = &["result", "axis", "at_least", "at_most", "factor"];
+/// The keys of a `[trade]` table and of one of its `constraints` (listed beside the schema,
+/// in [`crate::study::keys`], which names every study key).
+pub use crate::study::keys::{CONSTRAINT_KEYS, TRADE_KEYS};
 
 const RESULTS: &str = "kalker_critical_speed, hopf_speed, nonlinear_critical_speed";
 const AXES: &str =

@@ -11,6 +11,7 @@
 //! [`crate::sweep::merge`] are the sweep's. [`report`] turns the finished rows into the
 //! statistics and indices ([`estimate`]).
 
+mod choice;
 pub mod estimate;
 pub mod report;
 pub mod sample;

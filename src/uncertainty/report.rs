@@ -83,6 +83,10 @@ pub struct ParameterReport {
     pub distribution: String,
     /// its values' SI unit
     pub unit: String,
+    /// for a choice among files: the files, in the order their indices count (not written
+    /// for a numeric parameter)
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub files: Vec<String>,
 }
 
 /// `uncertainty.json`.
@@ -172,6 +176,7 @@ pub fn report(study: &UncertaintyStudy, rows: &[PointRecord]) -> UncertaintyRepo
                 key: p.key.clone(),
                 distribution: p.distribution.name().into(),
                 unit: p.dim.si_unit().into(),
+                files: p.files.clone(),
             })
             .collect(),
         quantities: computed(study)
@@ -351,8 +356,19 @@ pub fn uncertainty_csv(study: &UncertaintyStudy, rows: &[PointRecord]) -> String
     let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
     for r in sorted {
         let _ = write!(s, "{},{}", r.id, block(study, r.id));
-        for v in &r.values {
-            let _ = write!(s, ",{v}");
+        for (v, p) in r.values.iter().zip(&study.spec.parameters) {
+            // a choice among files: the file itself (quoted when CSV needs it)
+            match p.files.get(v.round() as usize) {
+                Some(f) if f.contains([',', '"', '\n']) => {
+                    let _ = write!(s, ",\"{}\"", f.replace('"', "\"\""));
+                }
+                Some(f) => {
+                    let _ = write!(s, ",{f}");
+                }
+                None => {
+                    let _ = write!(s, ",{v}");
+                }
+            }
         }
         let _ = writeln!(
             s,

@@ -5,7 +5,7 @@
 use crate::study::schema::{Quantity, UncertainParameterSection, UncertaintySection};
 use crate::study::units::Dimension;
 use crate::study::{self};
-use crate::sweep::spec::{key_dimension, Axis, Compute, Spacing};
+use crate::sweep::spec::{is_file_key, key_dimension, Axis, Compute, Spacing, FILE_KEYS};
 use crate::sweep::SWEEP_KEYS;
 
 use super::sample::{Distribution, Method};
@@ -21,8 +21,13 @@ pub struct Parameter {
     pub key: String,
     /// dimension of its values
     pub dim: Dimension,
-    /// its distribution, SI
+    /// its distribution, SI; for a file key the values of its `choice` are the indices of
+    /// `files` (0, 1, …)
     pub distribution: Distribution,
+    /// for a file key (`contact.geometry_table`, `contact.wheel_profile`,
+    /// `contact.rail_profile`): the files of its `choice`, as written (relative to the study
+    /// file); empty for a numeric key
+    pub files: Vec<String>,
 }
 
 /// A resolved `[uncertainty]` section.
@@ -55,7 +60,7 @@ impl UncertaintySpec {
     }
 }
 
-fn bad(
+pub(super) fn bad(
     key: impl Into<String>,
     value: impl std::fmt::Display,
     rule: impl Into<String>,
@@ -68,7 +73,7 @@ fn bad(
 }
 
 /// The text of a quantity as written, for messages.
-fn written(q: &Quantity) -> String {
+pub(super) fn written(q: &Quantity) -> String {
     match q {
         Quantity::Number(v) => v.to_string(),
         Quantity::Text(t) => format!("{t:?}"),
@@ -188,14 +193,18 @@ fn compute(c: Option<&[String]>) -> Result<Compute, UncertaintyError> {
 /// One parameter: its key (sweepable), its distribution's values in SI and their rules.
 fn parameter(i: usize, p: &UncertainParameterSection) -> Result<Parameter, UncertaintyError> {
     let at = |field: &str| format!("uncertainty.parameter[{i}].{field} ({})", p.key);
+    if is_file_key(&p.key) {
+        return super::choice::file_parameter(i, p);
+    }
     let dim = key_dimension(&p.key).ok_or_else(|| {
         let accepted: Vec<&str> = SWEEP_KEYS.iter().map(|(k, _)| *k).collect();
         bad(
             format!("uncertainty.parameter[{i}].key"),
             format!("{:?}", p.key),
             format!(
-                "is not a key that can vary; the numeric keys are: {}",
-                accepted.join(", ")
+                "is not a key that can vary; the numeric keys are: {}; the file keys (distribution \"choice\"): {}",
+                accepted.join(", "),
+                FILE_KEYS.join(", ")
             ),
         )
     })?;
@@ -343,29 +352,7 @@ fn parameter(i: usize, p: &UncertainParameterSection) -> Result<Parameter, Uncer
                     value(&format!("values[{k}]"), &Some(q.clone())).map(|v| v.unwrap_or(f64::NAN))
                 })
                 .collect::<Result<Vec<f64>, _>>()?;
-            let weights = p.weights.clone().unwrap_or_else(|| vec![1.0; values.len()]);
-            if weights.len() != values.len() {
-                return Err(bad(
-                    at("weights"),
-                    format!("{} weights", weights.len()),
-                    format!("needs one weight per value ({})", values.len()),
-                ));
-            }
-            if let Some(w) = weights.iter().find(|w| !(w.is_finite() && **w >= 0.0)) {
-                return Err(bad(
-                    at("weights"),
-                    w,
-                    "weights must be finite and not negative",
-                ));
-            }
-            let sum: f64 = weights.iter().sum();
-            if sum <= 0.0 {
-                return Err(bad(
-                    at("weights"),
-                    format!("sum {sum}"),
-                    "weights must sum to a positive number",
-                ));
-            }
+            let weights = super::choice::weights(&at, p, values.len())?;
             Distribution::Choice { values, weights }
         }
         other => {
@@ -380,6 +367,7 @@ fn parameter(i: usize, p: &UncertainParameterSection) -> Result<Parameter, Uncer
         key: p.key.clone(),
         dim,
         distribution,
+        files: Vec::new(),
     })
 }
 
@@ -390,6 +378,16 @@ pub fn axes(spec: &UncertaintySpec, design: &[Vec<f64>]) -> Vec<Axis> {
         .iter()
         .enumerate()
         .map(|(k, p)| {
+            if !p.files.is_empty() {
+                // every file of the choice is checked, and the values index them
+                return Axis {
+                    key: p.key.clone(),
+                    dim: p.dim,
+                    spacing: Spacing::Linear,
+                    values: (0..p.files.len()).map(|f| f as f64).collect(),
+                    files: p.files.clone(),
+                };
+            }
             let lo = design.iter().map(|r| r[k]).fold(f64::INFINITY, f64::min);
             let hi = design
                 .iter()
@@ -400,6 +398,7 @@ pub fn axes(spec: &UncertaintySpec, design: &[Vec<f64>]) -> Vec<Axis> {
                 dim: p.dim,
                 spacing: Spacing::Linear,
                 values: vec![lo, hi],
+                files: Vec::new(),
             }
         })
         .collect()
