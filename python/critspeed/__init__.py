@@ -23,10 +23,11 @@ the command line's (it names the key, the value and the rule); a numerical failu
 draw) is issued as a :class:`CritspeedWarning` (a ``UserWarning``) through :mod:`warnings`.
 
 Threads and the GIL: every call releases the GIL while it computes. The long ones
-(:func:`bifurcation`, :func:`sweep`, :func:`simulate`) run on a worker thread and check for
-Ctrl-C every 50 ms; on Ctrl-C the computation stops at its next step (continuation step, sweep
-point or simulated speed) and ``KeyboardInterrupt`` is raised. A sweep interrupted with
-``out=`` keeps its finished points and resumes from them when called again.
+(:func:`bifurcation`, :func:`sweep`, :func:`uncertainty`, :func:`simulate`) run on a worker
+thread and check for Ctrl-C every 50 ms; on Ctrl-C the computation stops at its next step
+(continuation step, sweep point, uncertainty evaluation or simulated speed) and
+``KeyboardInterrupt`` is raised. A sweep or uncertainty study interrupted with ``out=`` keeps
+its finished points and resumes from them when called again.
 """
 
 from __future__ import annotations
@@ -54,6 +55,7 @@ __all__ = [
     "attractors",
     "simulate",
     "sweep",
+    "uncertainty",
     "conicity",
     "geometry",
 ]
@@ -297,6 +299,46 @@ def sweep(
         raise StudyError(f"threads = {threads!r}: must be at least 1")
     kind, value = _study(study)
     return _columns(_warned(_native.sweep(kind, value, threads, _out(out))))
+
+
+def uncertainty(
+    study: Study, *, threads: Optional[int] = None, out: Optional[PathLike] = None
+) -> Dict[str, Any]:
+    """The study's ``[uncertainty]``: ``critspeed uncertainty STUDY --json``'s object, as a dict.
+
+    Keys as the command prints them: ``"study"``, ``"samples"`` (evaluations run),
+    ``"base_samples"`` (N), ``"method"``, ``"seed"``, ``"operating_speed_m_s"`` (when set),
+    ``"parameters"`` (``"key"``, ``"distribution"``, ``"unit"``) and ``"quantities"``: one
+    dict per computed speed with ``"name"`` (``"kalker"``, ``"hopf"``, ``"nonlinear"``),
+    ``"mean_m_s"``, ``"std_m_s"``, ``"quantiles_m_s"`` (keys ``"0.05"``, ``"0.5"``,
+    ``"0.95"``), ``"failed"``, ``"failures"`` (``"evaluation"``, ``"reason"``),
+    ``"above_range"``, ``"probability_below_operating_speed"`` (with an operating speed),
+    ``"indices"`` (per parameter ``"key"``, ``"first_order"``, ``"first_order_ci"``,
+    ``"total"``, ``"total_ci"``; ``*_ci`` = [low, high], 95 %) and ``"notes"``.
+
+    Plus ``"evaluations"``: ``{column of uncertainty.csv: numpy array}``, one entry per
+    evaluation: ``evaluation_id``, ``block`` (strings: ``"A"``, ``"B"``, ``"AB1"`` ...), one
+    column per parameter named by its key (SI), ``kalker_critical_speed_m_s``,
+    ``hopf_speed_m_s``, ``nonlinear_critical_speed_m_s`` (NaN where not computed, failed or
+    above range), ``status`` (strings) and ``stable_up_to_m_s``.
+
+    ``threads`` sets the size of the evaluations' own thread pool (default: all cores); the
+    results do not depend on it. With ``out``, the study is resumable exactly as ``critspeed
+    uncertainty`` (records file ``out/<name>/uncertainty.records.csv``) and writes
+    ``uncertainty.json``, ``uncertainty.csv`` and ``uncertainty.svg``. Ctrl-C stops it between
+    evaluations (``KeyboardInterrupt``).
+
+    Raises :class:`StudyError` naming the key, the value and the rule for a bad
+    ``[uncertainty]`` section (e.g. ``std`` not positive, ``from`` not below ``to``,
+    ``choice`` weights not summing to a positive number, a key that cannot vary, ``samples``
+    below 2 or, for ``"sobol"``, not a power of two).
+    """
+    if threads is not None and (isinstance(threads, bool) or threads < 1):
+        raise StudyError(f"threads = {threads!r}: must be at least 1")
+    kind, value = _study(study)
+    report, cols = _warned(_native.uncertainty(kind, value, threads, _out(out)))
+    report["evaluations"] = _columns(cols)
+    return report
 
 
 def conicity(

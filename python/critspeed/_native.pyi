@@ -50,6 +50,8 @@ def simulate(
     duration: float,
     dt: float,
     out: Optional[str] = None,
+    start_from: Optional[str] = None,
+    kick: Optional[List[str]] = None,
 ) -> Tuple[Columns, Warnings]:
     """The columns of simulate.csv."""
 
@@ -57,6 +59,11 @@ def sweep(
     kind: str, value: Any, threads: Optional[int] = None, out: Optional[str] = None
 ) -> Tuple[Columns, Warnings]:
     """The columns of sweep.csv."""
+
+def uncertainty(
+    kind: str, value: Any, threads: Optional[int] = None, out: Optional[str] = None
+) -> Tuple[Dict[str, Any], Columns, Warnings]:
+    """``uncertainty --json``'s object and the columns of uncertainty.csv."""
 
 def conicity(
     kind: str,

@@ -204,7 +204,7 @@ fn save(
 /// Runs `f` with the GIL released. A `long` computation runs on a worker thread while this
 /// thread checks for signals (Ctrl-C) every 50 ms: on a signal the cancellation flag is raised,
 /// the worker stops at its next check (between continuation steps, sweep points, simulated
-/// speeds) and the signal's exception (KeyboardInterrupt) is raised.
+/// speeds, uncertainty evaluations) and the signal's exception (KeyboardInterrupt) is raised.
 fn call<T: Send>(
     py: Python<'_>,
     long: bool,
@@ -472,6 +472,61 @@ fn sweep<'py>(
     Ok((columns_py(py, &csv, api::kinds::SWEEP)?, w))
 }
 
+/// `uncertainty --json`'s object and the columns of uncertainty.csv. With `out`, resumable like
+/// the CLI (records file in out/<name>/).
+#[pyfunction]
+#[pyo3(signature = (kind, value, threads=None, out=None))]
+fn uncertainty<'py>(
+    py: Python<'py>,
+    kind: &str,
+    value: &Bound<'py, PyAny>,
+    threads: Option<usize>,
+    out: Option<PathBuf>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyList>, Vec<String>)> {
+    let src = source(kind, value)?;
+    let (json, csv, w) = call(py, true, |cancel| {
+        let study = src.uncertainty_study()?;
+        // the CLI's warnings: the base plan's (the sampled values are not checked one by one)
+        let mut w: Vec<String> = study
+            .sweep
+            .base
+            .warnings
+            .iter()
+            .map(ToString::to_string)
+            .collect();
+        let name = &study.sweep.base.name;
+        let records = match &out {
+            Some(root) => Some(
+                files::folder(root, name)?
+                    .join(Shard::ALL.records_file_of(critspeed::uncertainty::RECORDS_STEM)),
+            ),
+            None => None,
+        };
+        let opts = SweepOptions {
+            threads,
+            shard: Shard::ALL,
+            records,
+        };
+        let rows = api::uncertainty(&study, &opts, None, cancel)?.rows;
+        let report = critspeed::uncertainty::report(&study, &rows);
+        save(out.as_ref(), name, &mut w, || {
+            files::uncertainty(&study, &report, &rows)
+        })?;
+        let json = serde_json::to_value(&report)
+            .map_err(|e| Failure::Compute(anyhow::anyhow!("uncertainty.json: {e}")))?;
+        Ok((
+            json,
+            critspeed::uncertainty::uncertainty_csv(&study, &rows),
+            w,
+        ))
+    })?;
+    Ok((
+        to_py(py, &json)?,
+        columns_py(py, &csv, api::kinds::UNCERTAINTY)?,
+        w,
+    ))
+}
+
 /// `conicity --json`'s object, from a study or a Δr table (`y`, `dr` in metres).
 #[pyfunction]
 #[pyo3(signature = (kind, value, amplitudes=None, out=None, table=None))]
@@ -551,6 +606,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(attractors, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(uncertainty, m)?)?;
     m.add_function(wrap_pyfunction!(conicity, m)?)?;
     m.add_function(wrap_pyfunction!(geometry, m)?)?;
     Ok(())

@@ -1,9 +1,9 @@
 //! A CSV file the library writes, read back as typed columns: how the Python package returns
-//! `branch.csv`, `simulate.csv`, `sweep.csv` and `geometry.csv` as arrays. The CSV writers
-//! use Rust's shortest round-trip formatting, so every number read back is the `f64` that was
-//! computed. Column types are declared by the caller (numbers unless named otherwise), so a
-//! column has the same type whatever its cells (an empty branch still has a boolean
-//! `stable` column).
+//! `branch.csv`, `simulate.csv`, `sweep.csv`, `uncertainty.csv` and `geometry.csv` as arrays.
+//! The CSV writers use Rust's shortest round-trip formatting, so every number read back is the
+//! `f64` that was computed. Column types are declared by the caller (numbers unless named
+//! otherwise), so a column has the same type whatever its cells (an empty branch still has a
+//! boolean `stable` column).
 
 use anyhow::anyhow;
 
@@ -41,6 +41,8 @@ pub const BRANCH: &[(&str, Kind)] = &[("branch_kind", Kind::Text), ("stable", Ki
 pub const ATTRACTORS: &[(&str, Kind)] = &[("source", Kind::Text), ("kind", Kind::Text)];
 /// The column types of `sweep.csv` (numbers but `status` and `nonlinear_located`).
 pub const SWEEP: &[(&str, Kind)] = &[("status", Kind::Text), ("nonlinear_located", Kind::OptBool)];
+/// The column types of `uncertainty.csv` (numbers but `block` and `status`).
+pub const UNCERTAINTY: &[(&str, Kind)] = &[("block", Kind::Text), ("status", Kind::Text)];
 /// The column types of `simulate.csv` and `geometry.csv`: all numbers.
 pub const NUMBERS: &[(&str, Kind)] = &[];
 

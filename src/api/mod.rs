@@ -26,7 +26,7 @@ pub use source::Source;
 
 /// Column types of the CSV files read back by [`columns`].
 pub mod kinds {
-    pub use super::columns::{ATTRACTORS, BRANCH, NUMBERS, SWEEP};
+    pub use super::columns::{ATTRACTORS, BRANCH, NUMBERS, SWEEP, UNCERTAINTY};
     pub use super::curve::CURVE;
 }
 
@@ -479,6 +479,31 @@ pub fn sweep(
 }
 
 pub(crate) fn sweep_failure(e: crate::sweep::SweepError) -> Failure {
+    if e.is_user_error() {
+        user(e)
+    } else {
+        compute(e)
+    }
+}
+
+/// Runs (or resumes, when `opts.records` names a file) the evaluations of an uncertainty
+/// study's design ([`crate::uncertainty::run`]); [`crate::uncertainty::report`] turns the rows
+/// into `uncertainty.json`'s statistics and indices.
+pub fn uncertainty(
+    study: &crate::uncertainty::UncertaintyStudy,
+    opts: &SweepOptions,
+    progress: Option<&(dyn Fn(&Progress) + Sync)>,
+    cancel: Cancel<'_>,
+) -> Result<SweepResults, Failure> {
+    if opts.threads == Some(0) {
+        return Err(user(anyhow!("threads = 0: must be at least 1")));
+    }
+    crate::uncertainty::run(study, opts, progress, cancel).map_err(uncertainty_failure)
+}
+
+/// An uncertainty study's error as a user failure (exit 2, Python's `StudyError`) when the
+/// input can fix it, else a computation failure.
+pub(crate) fn uncertainty_failure(e: crate::uncertainty::UncertaintyError) -> Failure {
     if e.is_user_error() {
         user(e)
     } else {

@@ -8,6 +8,7 @@ use super::{user, Failure};
 use crate::study::schema::StudyFile;
 use crate::study::{self, Plan, StudyError};
 use crate::sweep::SweepStudy;
+use crate::uncertainty::UncertaintyStudy;
 
 /// A study's TOML text, the name its messages give it, and the folder its relative paths
 /// (geometry tables, profiles) are taken from (`None`: the current directory).
@@ -74,5 +75,11 @@ impl Source {
     pub fn sweep_study(&self) -> Result<SweepStudy, Failure> {
         SweepStudy::parse_in(&self.text, &self.origin, self.folder.as_deref())
             .map_err(super::sweep_failure)
+    }
+
+    /// The study with its `[uncertainty]` section.
+    pub fn uncertainty_study(&self) -> Result<UncertaintyStudy, Failure> {
+        UncertaintyStudy::parse_in(&self.text, &self.origin, self.folder.as_deref())
+            .map_err(super::uncertainty_failure)
     }
 }

@@ -39,11 +39,7 @@ pub struct UncertaintyArgs {
 }
 
 fn failure(e: UncertaintyError) -> Failure {
-    if e.is_user_error() {
-        user(e)
-    } else {
-        compute(e)
-    }
+    crate::api::uncertainty_failure(e)
 }
 
 /// Whether the study file at `path` has an `[uncertainty]` table (read leniently: any error
