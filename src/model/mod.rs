@@ -250,7 +250,8 @@ impl crate::system::ode::VectorField<4> for Wheelset {
 /// The state sizes the analyses are compiled for: the layouts' 4, 12 (14 with frame roll) and
 /// 28 (34 with roll), and those with one or two damper strokes per bogie frame (docs/model.md
 /// §13: a yaw-damper pair on series stiffness adds one stroke per frame; on the wheelset one or
-/// two, for its primary dampers). [`Vehicle::assemble`] refuses any other size.
+/// two, for its primary dampers). [`Vehicle::assemble`] refuses any other size when dampers'
+/// strokes make it, naming them.
 pub const STATE_SIZES: [usize; 14] = [4, 5, 6, 12, 13, 14, 15, 16, 28, 30, 32, 34, 36, 38];
 
 /// Runs `$body` with the const `$n` set to the state size `$states` of a vehicle (one of

@@ -569,7 +569,9 @@ impl Vehicle {
             }
             row[2 * n + k] = -mx.rate();
         }
-        if !super::STATE_SIZES.contains(&s) {
+        // (an assembly without strokes keeps any size: the analyses refuse an uncompiled one
+        // themselves; with strokes the refusal here can name the dampers)
+        if m > 0 && !super::STATE_SIZES.contains(&s) {
             let names: Vec<&str> = maxwell.iter().map(|mx| mx.name.as_str()).collect();
             return Err(AssemblyError::UnsupportedStates {
                 states: s,
