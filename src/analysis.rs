@@ -261,7 +261,7 @@ pub fn linearisation_notes(model: &Vehicle) -> Vec<String> {
         .filter_map(|mx| {
             let g = mx.law.as_ref()?;
             Some(format!(
-                "{}: the linear analysis uses the force-velocity curve's slope at zero, {:.6} kN s/m per damper (the centred motion); the blow-off acts in the nonlinear analyses only",
+                "{}: the linear analysis uses the force-velocity curve's slope at zero, {} kN s/m per damper (the centred motion); the blow-off acts in the nonlinear analyses only",
                 mx.name,
                 g.slope_at_zero() / 1e3
             ))

@@ -10,7 +10,6 @@ use critspeed::model::{
 use critspeed::reference::{
     cone_wheelset, REFERENCE_FRAME, REFERENCE_SECONDARY, SEED_CREEP, SEED_SUSPENSION, SEED_WHEELSET,
 };
-use critspeed::stability::{critical_speeds, LinearOptions, LinearSystem};
 use critspeed::system::ode::VectorField;
 use nalgebra::{Complex, DMatrix, SMatrix, SVector, Vector4};
 
@@ -55,17 +54,7 @@ fn bogie_with_yaw_dampers(ks: Option<f64>) -> Vehicle {
 }
 
 fn v_l<const N: usize>(v: &Vehicle) -> f64 {
-    assert_eq!(v.states(), N);
-    let opts = LinearOptions {
-        speed_range: (1.0, 300.0),
-        ..LinearOptions::default()
-    };
-    let sys = LinearSystem::<N>::at_centre(v);
-    let found = critical_speeds(&sys, v.creep_law(), &opts).expect("search runs");
-    found
-        .critical()
-        .unwrap_or_else(|| panic!("no onset in range: {found:?}"))
-        .speed_m_s
+    common::v_l_in::<N>(v, (1.0, 300.0))
 }
 
 fn det(m: DMatrix<Complex<f64>>) -> Complex<f64> {
@@ -450,4 +439,78 @@ fn a_blow_off_damper_cycle_is_the_attractor_of_a_long_simulation() {
             "{peak_force} N: the valve never opens"
         );
     }
+}
+
+/// The same bogie with blow-off yaw dampers hunts far below every stable cycle of its continued
+/// branch: the branch's lowest stable cycle lies near 130 m/s (a torus point), but the attractor
+/// search, started from kicks, finds a slower cycle (about 5 Hz against the branch's 11 Hz) on
+/// which the valves open, alive down to about 84 m/s. V_NL is the search's, and the report says
+/// in words that the two methods disagree (`critspeed attractors` prints it). A plain 150 s simulation (sharing only the
+/// right-hand side with the search) from the search's state at the death bracket's upper end
+/// confirms both ends: hunting above 1 mm at the upper end, below 0.1 mm at the lower end.
+#[test]
+fn blow_off_dampers_hunt_below_the_continued_branch_and_the_report_says_so() {
+    use critspeed::attractors::{search, AttractorOptions};
+    use critspeed::bifurcation::analyse;
+    use nalgebra::SVector;
+    const N: usize = 13;
+    let dir = common::scratch("maxwell-search");
+    let path = dtu_bogie_with(
+        &dir,
+        "yaw_damper_series_stiffness = \"10 MN/m\"\n\
+         yaw_damper_force_velocity = { blow_off_force = \"3 kN\", slope_after = \"20 kN s/m\" }",
+    );
+    let plan = critspeed::study::load(&path).expect("study");
+    let model = plan.model().expect("model");
+    assert_eq!(model.states(), N);
+    let bo = plan.bifurcation_options();
+    let b = analyse(&plan.name, &model, &bo).expect("branch");
+    let continued = b
+        .cycles
+        .iter()
+        .filter(|c| c.stable)
+        .map(|c| c.speed_m_s)
+        .fold(f64::INFINITY, f64::min);
+    let opts = AttractorOptions::new(
+        bo.speed_range,
+        b.hopf.map(|h| h.speed_m_s),
+        bo.geometry_limit,
+    );
+    let r = search(&plan.name, &model, &opts, Some(&b)).expect("search");
+    let (v_nl, bracket, id) = r.nonlinear_critical_speed.expect("an attractor");
+    assert!(
+        v_nl < continued - 20.0,
+        "search {v_nl} m/s vs the branch's lowest stable cycle {continued} m/s"
+    );
+    let (lo, hi) = bracket.expect("a bracket");
+    let a = r
+        .attractors
+        .iter()
+        .find(|a| a.id == id)
+        .expect("V_NL's attractor");
+    let alive = a.path.last().expect("a path");
+    assert_eq!(alive.speed_m_s, hi);
+    let x0 = SVector::<f64, N>::from_iterator(alive.state.iter().copied());
+    let (below, above) = (
+        common::excursion_after_150_s(&model, lo, &x0),
+        common::excursion_after_150_s(&model, hi, &x0),
+    );
+    assert!(above > 1e-3, "at {hi} m/s: {above} m after 150 s");
+    assert!(below < 1e-4, "at {lo} m/s: {below} m after 150 s");
+    // the joined report takes the search's V_NL and names the disagreement
+    let mut joined = b.clone();
+    critspeed::reconcile::combine(&mut joined, &r);
+    assert_eq!(joined.nonlinear_critical_speed.map(|(v, _)| v), Some(v_nl));
+    assert!(
+        joined
+            .notes
+            .iter()
+            .any(|n| n.starts_with("the continuation and the attractor search disagree")),
+        "{:?}",
+        joined.notes
+    );
+    eprintln!(
+        "V_NL {v_nl} m/s by the search, lowest stable continued cycle {continued} m/s; \
+         after 150 s: {below:.3e} m at {lo} m/s, {above:.3e} m at {hi} m/s"
+    );
 }

@@ -370,6 +370,11 @@ fn bad_sections_name_key_value_and_rule() {
             &["uncertainty.parameter[0].std", "suspension.lateral_stiffness", "0 N/m", "must be positive"],
         ),
         (
+            // a conicity's std is checked by the distribution's rule, not the conicity's range
+            section("samples = 8", "key = \"contact.conicity\"\ndistribution = \"normal\"\nmean = 0.2\nstd = 0"),
+            &["uncertainty.parameter[0].std", "contact.conicity", "must be positive"],
+        ),
+        (
             section("samples = 8", "key = \"suspension.lateral_stiffness\"\ndistribution = \"uniform\"\nfrom = \"360 N/mm\"\nto = \"240 N/mm\""),
             &["uncertainty.parameter[0].from", "360000 N/m", "from must be below to"],
         ),

@@ -1,6 +1,8 @@
 //! Vehicles (docs/model.md §11): the limit checks that do not depend on the code, and the analyses
 //! on bogie and car studies against identities (eigen-residuals, the wheelset limit).
 
+mod common;
+
 use critspeed::analysis;
 use critspeed::contact::creep::CreepLaw;
 use critspeed::contact::kalker::CreepCoefficients;
@@ -20,16 +22,7 @@ fn hunting_wheelset(law: CreepLaw) -> critspeed::model::Wheelset {
 }
 
 fn v_l<const N: usize>(v: &Vehicle) -> f64 {
-    let opts = LinearOptions {
-        speed_range: (1.0, 150.0),
-        ..LinearOptions::default()
-    };
-    let sys = LinearSystem::<N>::at_centre(v);
-    let found = critical_speeds(&sys, v.creep_law(), &opts).expect("search runs");
-    found
-        .critical()
-        .unwrap_or_else(|| panic!("no onset in range: {found:?}"))
-        .speed_m_s
+    common::v_l_in::<N>(v, (1.0, 150.0))
 }
 
 /// docs/model.md §11: a frame whose mass and inertia are scaled by F and its secondary stiffness by

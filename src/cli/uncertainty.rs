@@ -108,7 +108,7 @@ pub fn run(args: &UncertaintyArgs, root: &Path) -> Result<(), Failure> {
         shard,
         records: Some(records.clone()),
     };
-    let res = uncertainty::run(&study, &opts, Some(&report), None).map_err(failure)?;
+    let res = crate::api::uncertainty(&study, &opts, Some(&report), None)?;
     if tty && res.computed > 0 {
         statusln!();
     }

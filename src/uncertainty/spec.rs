@@ -211,7 +211,9 @@ fn parameter(i: usize, p: &UncertainParameterSection) -> Result<Parameter, Uncer
     let value = |field: &str, q: &Option<Quantity>| -> Result<Option<f64>, UncertaintyError> {
         q.as_ref()
             .map(|q| {
-                let v = if p.key == "contact.conicity" {
+                // a conicity's values lie in (0, 1) and may be written as ratios; its standard
+                // deviation is a plain number, checked below by the distribution's own rule
+                let v = if p.key == "contact.conicity" && field != "std" {
                     study::conicity(q)
                 } else {
                     study::quantity(&p.key, q, dim)

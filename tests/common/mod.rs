@@ -54,6 +54,23 @@ pub fn reference(name: &str) -> String {
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
+/// The lowest linear (Kalker or the model's law) critical speed V_L (m/s) of `model` over
+/// `range` (m/s); panics naming the search's result when no onset lies in the range.
+pub fn v_l_in<const N: usize>(model: &critspeed::model::Vehicle, range: (f64, f64)) -> f64 {
+    use critspeed::stability::{critical_speeds, LinearOptions, LinearSystem};
+    assert_eq!(model.states(), N, "the model's state size");
+    let opts = LinearOptions {
+        speed_range: range,
+        ..LinearOptions::default()
+    };
+    let sys = LinearSystem::<N>::at_centre(model);
+    let found = critical_speeds(&sys, model.creep_law(), &opts).expect("search runs");
+    found
+        .critical()
+        .unwrap_or_else(|| panic!("no onset in range: {found:?}"))
+        .speed_m_s
+}
+
 /// Every wheelset's largest lateral excursion (m) over the last 10 s of a plain 150 s
 /// simulation of `model` at `speed` from `x0` (rtol 1e-8): hunting or not, by an integration
 /// that shares nothing with the attractor search but the right-hand side.
