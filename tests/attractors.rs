@@ -283,8 +283,7 @@ fn the_cars_death_bracket_is_closed_by_a_decay_that_a_plain_simulation_confirms(
         bo.geometry_limit,
     );
     let r = search(name, &model, &opts, Some(&b)).expect("search");
-    let (_, bracket, id) = r.nonlinear_critical_speed.expect("an attractor");
-    let (lo, hi) = bracket.expect("a bracket");
+    let (_, _, id) = r.nonlinear_critical_speed.expect("an attractor");
     let a = r
         .attractors
         .iter()
@@ -292,11 +291,7 @@ fn the_cars_death_bracket_is_closed_by_a_decay_that_a_plain_simulation_confirms(
         .expect("V_NL's attractor");
     assert!(!a.open_below, "{}", a.fate);
     assert!(a.fate.starts_with("decays"), "{}", a.fate);
-    let alive = a.path.last().expect("a path");
-    assert_eq!(alive.speed_m_s, hi);
-    let x0 = SVector::<f64, N>::from_iterator(alive.state.iter().copied());
-    let excursion = |v: f64| common::excursion_after_150_s(&model, v, &x0);
-    let (below, above) = (excursion(lo), excursion(hi));
+    let ((lo, hi), below, above) = common::excursions_across_death::<N>(&model, &r);
     assert!(below < 1e-4, "at {lo} m/s: {below} m after 150 s");
     assert!(above > 1e-3, "at {hi} m/s: {above} m after 150 s");
     eprintln!("after 150 s: {below:.3e} m at {lo} m/s, {above:.3e} m at {hi} m/s");

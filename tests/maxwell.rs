@@ -330,6 +330,22 @@ fn dtu_bogie_with(dir: &std::path::Path, lines: &str) -> std::path::PathBuf {
     path
 }
 
+/// The DTU bogie with its yaw dampers on 10 MN/m bushes and a relief valve at 3 kN (20 kN s/m
+/// beyond), loaded from a study written to a scratch folder `name`: 13 states.
+fn blow_off_bogie(name: &str) -> (critspeed::study::Plan, Vehicle) {
+    let dir = common::scratch(name);
+    let path = dtu_bogie_with(
+        &dir,
+        "yaw_damper_series_stiffness = \"10 MN/m\"\n\
+         yaw_damper_force_velocity = { blow_off_force = \"3 kN\", slope_after = \"20 kN s/m\" }",
+    );
+    let plan = critspeed::study::load(&path).expect("study");
+    let model = plan.model().expect("model");
+    assert_eq!(model.states(), 13);
+    assert!(model.maxwell[0].law.is_some());
+    (plan, model)
+}
+
 fn kalker_speed(out: &std::process::Output) -> (f64, usize) {
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
     let speed = json["kalker"]["critical_speed_m_s"]
@@ -386,16 +402,7 @@ fn the_study_key_reaches_the_model_and_bad_values_are_refused() {
 fn a_blow_off_damper_cycle_is_the_attractor_of_a_long_simulation() {
     use critspeed::bifurcation::analyse;
     use critspeed::system::ode::{OdeOptions, Tolerances};
-    let dir = common::scratch("maxwell-blow-off");
-    let path = dtu_bogie_with(
-        &dir,
-        "yaw_damper_series_stiffness = \"10 MN/m\"\n\
-         yaw_damper_force_velocity = { blow_off_force = \"3 kN\", slope_after = \"20 kN s/m\" }",
-    );
-    let plan = critspeed::study::load(&path).expect("study");
-    let model = plan.model().expect("model");
-    assert_eq!(model.states(), 13);
-    assert!(model.maxwell[0].law.is_some());
+    let (plan, model) = blow_off_bogie("maxwell-blow-off");
     let report = analyse(&plan.name, &model, &plan.bifurcation_options()).expect("analysis");
     // stable cycles that attract fast enough for 56 s (about 550 periods) to settle to 1e-6
     let stable: Vec<_> = report
@@ -452,17 +459,8 @@ fn a_blow_off_damper_cycle_is_the_attractor_of_a_long_simulation() {
 fn blow_off_dampers_hunt_below_the_continued_branch_and_the_report_says_so() {
     use critspeed::attractors::{search, AttractorOptions};
     use critspeed::bifurcation::analyse;
-    use nalgebra::SVector;
     const N: usize = 13;
-    let dir = common::scratch("maxwell-search");
-    let path = dtu_bogie_with(
-        &dir,
-        "yaw_damper_series_stiffness = \"10 MN/m\"\n\
-         yaw_damper_force_velocity = { blow_off_force = \"3 kN\", slope_after = \"20 kN s/m\" }",
-    );
-    let plan = critspeed::study::load(&path).expect("study");
-    let model = plan.model().expect("model");
-    assert_eq!(model.states(), N);
+    let (plan, model) = blow_off_bogie("maxwell-search");
     let bo = plan.bifurcation_options();
     let b = analyse(&plan.name, &model, &bo).expect("branch");
     let continued = b
@@ -477,24 +475,12 @@ fn blow_off_dampers_hunt_below_the_continued_branch_and_the_report_says_so() {
         bo.geometry_limit,
     );
     let r = search(&plan.name, &model, &opts, Some(&b)).expect("search");
-    let (v_nl, bracket, id) = r.nonlinear_critical_speed.expect("an attractor");
+    let (v_nl, _, _) = r.nonlinear_critical_speed.expect("an attractor");
     assert!(
         v_nl < continued - 20.0,
         "search {v_nl} m/s vs the branch's lowest stable cycle {continued} m/s"
     );
-    let (lo, hi) = bracket.expect("a bracket");
-    let a = r
-        .attractors
-        .iter()
-        .find(|a| a.id == id)
-        .expect("V_NL's attractor");
-    let alive = a.path.last().expect("a path");
-    assert_eq!(alive.speed_m_s, hi);
-    let x0 = SVector::<f64, N>::from_iterator(alive.state.iter().copied());
-    let (below, above) = (
-        common::excursion_after_150_s(&model, lo, &x0),
-        common::excursion_after_150_s(&model, hi, &x0),
-    );
+    let ((lo, hi), below, above) = common::excursions_across_death::<N>(&model, &r);
     assert!(above > 1e-3, "at {hi} m/s: {above} m after 150 s");
     assert!(below < 1e-4, "at {lo} m/s: {below} m after 150 s");
     // the joined report takes the search's V_NL and names the disagreement

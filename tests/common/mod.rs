@@ -93,6 +93,30 @@ pub fn excursion_after_150_s<const N: usize>(
         .fold(0.0, f64::max)
 }
 
+/// The death bracket [lo, hi] (m/s) of the attractor that sets the search's V_NL, and every
+/// wheelset's largest excursion (m) after 150 s at lo and at hi ([`excursion_after_150_s`]),
+/// both started from the attractor's state at hi (the last speed where the search saw it).
+pub fn excursions_across_death<const N: usize>(
+    model: &critspeed::model::Vehicle,
+    report: &critspeed::attractors::AttractorReport,
+) -> ((f64, f64), f64, f64) {
+    let (_, bracket, id) = report.nonlinear_critical_speed.expect("an attractor");
+    let (lo, hi) = bracket.expect("a bracket");
+    let a = report
+        .attractors
+        .iter()
+        .find(|a| a.id == id)
+        .expect("V_NL's attractor");
+    let alive = a.path.last().expect("a path");
+    assert_eq!(alive.speed_m_s, hi);
+    let x0 = nalgebra::SVector::<f64, N>::from_iterator(alive.state.iter().copied());
+    (
+        (lo, hi),
+        excursion_after_150_s(model, lo, &x0),
+        excursion_after_150_s(model, hi, &x0),
+    )
+}
+
 /// Every `.svg` under `dir` (recursively), after asserting that no legend box in it hides a
 /// data mark, a reference line's label or a text (`critspeed::plot::legend_clashes`, which
 /// reads the SVG as drawn). Returns the files and how many legend boxes were checked.
