@@ -23,6 +23,9 @@
 //!   dampers on series stiffness (10 and 5 MN/m; docs/model.md §13: four strokes, 32 states),
 //!   against `rhs_car`, `variational_car` and `diagram_car_60/1` (issue 32's aim: the diagram
 //!   within 1.3 times the rigid car's).
+//! * `vehicle/rhs_car_stops`, `vehicle/variational_car_stops`: the same car with a 5 mm
+//!   secondary and a 2 mm primary bump stop (docs/model.md §13: six stops, 28 states), at a state
+//!   where every stop is engaged, against `rhs_car` and `variational_car`.
 //! * `vehicle/diagram_car_whole/{1,2}`: the car's whole diagram (about 140 cycles to 7 mm,
 //!   its folds, V_NL) on 1 and 2 threads: the vehicle issue's aim (under 10 s on this 2-core
 //!   machine) and issue 11's rayon speed-up; ten samples each take about four minutes.
@@ -127,6 +130,7 @@ fn benches(c: &mut Criterion) {
     });
     group.finish();
     series(c);
+    stops(c);
     diagrams(c, &bp, &bogie, &cp, &car);
 }
 
@@ -162,6 +166,39 @@ fn series(c: &mut Criterion) {
     opts.max_points = 60;
     time_diagram(&mut group, "diagram_car_60_series", 1, &car, &opts);
     group.finish();
+}
+
+/// The DTU car with lateral bump stops on its primary and secondary, all engaged.
+fn stops(c: &mut Criterion) {
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("studies");
+    let text = std::fs::read_to_string(folder.join("dtu-cooperrider-car.toml"))
+        .expect("study text")
+        .replace(
+            "[secondary]",
+            "[secondary]\nbump_stop_clearance = \"5 mm\"\nbump_stop_stiffness = \"2 MN/m\"",
+        )
+        .replace(
+            "[suspension]",
+            "[suspension]\nbump_stop_clearance = \"2 mm\"\nbump_stop_stiffness = \"5 MN/m\"",
+        );
+    let plan = study::parse_in(&text, "stops", Some(&folder)).expect("study");
+    let car = plan.model().expect("model");
+    assert_eq!((car.states(), car.stops.len()), (28, 6));
+    // wheelsets 6 mm out one way, frames 8 mm the other: every stop engaged
+    let x = SVector::<f64, 28>::from_fn(|i, _| match i {
+        0 | 2 | 4 | 6 => 6e-3,
+        8 | 10 => -8e-3,
+        _ => 1e-4 * (i as f64 + 1.0).sin(),
+    });
+    c.bench_function("vehicle/rhs_car_stops", |b| {
+        b.iter(|| VectorField::<28>::rhs(&car, black_box(&x), black_box(100.0)))
+    });
+    let phi = nalgebra::SMatrix::<f64, 28, 28>::from_fn(|i, j| {
+        f64::from(u8::from(i == j)) + 1e-3 * ((i * 28 + j) as f64).sin()
+    });
+    c.bench_function("vehicle/variational_car_stops", |b| {
+        b.iter(|| VectorField::<28>::rhs_variational(&car, black_box(&x), 100.0, black_box(&phi)))
+    });
 }
 
 /// The bifurcation diagrams on rayon pools of 1 and 2 threads.

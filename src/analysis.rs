@@ -27,6 +27,10 @@ pub struct LinearReport {
     pub centre_conicity: f64,
     /// kinematic (Klingel) wavelength 2π√(r0 l0/λe) (m)
     pub klingel_wavelength_m: f64,
+    /// each wheelset's centre conicity, front to rear (–): they differ when the wheelsets have
+    /// their own geometry (`[[contact.wheelset]]`); `centre_conicity` and the Klingel
+    /// wavelength are then the leading wheelset's
+    pub wheelset_conicities: Vec<f64>,
     /// spectra of the Kalker model on the spectrum grid
     pub spectrum_kalker: Vec<Spectrum>,
     /// spectra of the study's law on the same grid, when not Kalker
@@ -241,6 +245,7 @@ pub fn linear_states<const N: usize>(
         creep_law,
         centre_conicity: model.centre_conicity(),
         klingel_wavelength_m: model.klingel_wavelength(),
+        wheelset_conicities: model.wheelset_conicities(),
         spectrum_kalker,
         spectrum_creep_law,
         layout: (model.layout.name(), model.states()),
@@ -248,14 +253,30 @@ pub fn linear_states<const N: usize>(
         creep_law_modes,
         kalker_lyapunov,
         creep_law_lyapunov,
-        notes: linearisation_notes(model),
+        notes: linearisation_notes(model)
+            .into_iter()
+            .chain(conicity_note(model))
+            .collect(),
+    })
+}
+
+/// When the wheelsets' centre conicities differ, one sentence saying so and which one the
+/// single conicity and Klingel wavelength are.
+pub fn conicity_note(model: &Vehicle) -> Option<String> {
+    model.conicities_differ().then(|| {
+        format!(
+            "the wheelsets' centre conicities differ ({}); the centre conicity and Klingel \
+             wavelength reported are the leading wheelset's",
+            model.conicity_summary()
+        )
     })
 }
 
 /// One sentence per damper whose force–velocity curve the linear analysis replaces by its
-/// slope at zero.
+/// slope at zero, and one per kind of bump stop (primary, secondary), which gives nothing at
+/// the centre: the linear analysis is the motion inside its clearance.
 pub fn linearisation_notes(model: &Vehicle) -> Vec<String> {
-    model
+    let mut notes: Vec<String> = model
         .maxwell
         .iter()
         .filter_map(|mx| {
@@ -266,7 +287,24 @@ pub fn linearisation_notes(model: &Vehicle) -> Vec<String> {
                 g.slope_at_zero() / 1e3
             ))
         })
-        .collect()
+        .collect();
+    let mut kinds: Vec<(&str, f64)> = Vec::new();
+    for stop in &model.stops {
+        let kind = stop.name.split(',').next().unwrap_or(&stop.name);
+        if !kinds
+            .iter()
+            .any(|(k, c)| *k == kind && *c == stop.clearance)
+        {
+            kinds.push((kind, stop.clearance));
+        }
+    }
+    for (kind, clearance) in kinds {
+        notes.push(format!(
+            "{kind}s: the linear analysis is the centred motion inside the ±{} mm clearance (the stops act in the nonlinear analyses only)",
+            (clearance * 1e9).round() / 1e6
+        ));
+    }
+    notes
 }
 
 /// The contact geometry table of a study.
@@ -286,6 +324,9 @@ pub struct GeometryReport {
     pub valid_half_width_m: Option<f64>,
     /// the study's `contact.extrapolate`
     pub extrapolate: crate::contact::table::Extrapolation,
+    /// the wheelsets' centre conicities grouped, when the wheelsets have geometries of their
+    /// own that differ (`[[contact.wheelset]]`; the rest of the report is `[contact]`'s)
+    pub wheelsets: Option<String>,
 }
 
 /// The geometry table of a model.
@@ -294,10 +335,11 @@ pub fn geometry(plan: &Plan, model: &Vehicle) -> GeometryReport {
     GeometryReport {
         study: plan.name.clone(),
         rows: table.rows(),
-        centre_conicity: model.centre_conicity(),
+        centre_conicity: crate::model::centre_conicity(table),
         jumps: table.jumps().to_vec(),
         clamped: table.clamped.clone(),
         valid_half_width_m: table.valid_half_width(),
         extrapolate: plan.contact.extrapolate,
+        wheelsets: model.conicities_differ().then(|| model.conicity_summary()),
     }
 }

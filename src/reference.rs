@@ -228,6 +228,7 @@ pub const REFERENCE_SECONDARY: crate::model::Secondary = crate::model::Secondary
     height: 0.6584,
     series: crate::model::DamperSeries::RIGID,
     yaw_damper_force_velocity: None,
+    bump_stop: None,
 };
 
 /// The car body of the same sheet (44388 kg; the yaw inertia 5.6e6 kg m² of the sheet's

@@ -249,30 +249,8 @@ fn the_car_with_strokes_has_a_consistent_jacobian_and_is_odd() {
             );
         }
     }
-    let xs = SVector::<f64, 32>::from_column_slice(&x);
-    let phi = SMatrix::<f64, 32, 32>::from_fn(|r, c| ((r * 7 + c * 3) % 11) as f64 - 5.0);
-    let (fv, jphi) = VectorField::<32>::rhs_variational(&v, &xs, speed, &phi);
-    let jm = SMatrix::<f64, 32, 32>::from_column_slice(&jac);
-    let dense = jm * phi;
-    for r in 0..n {
-        assert_eq!(fv[r], f[r], "f row {r}");
-        for c in 0..n {
-            let scale = (0..n).fold(1e-300_f64, |s, k| s.max((jm[(r, k)] * phi[(k, c)]).abs()));
-            assert!(
-                (jphi[(r, c)] - dense[(r, c)]).abs() <= 1e-12 * scale,
-                "JΦ[{r}][{c}]: {} vs {}",
-                jphi[(r, c)],
-                dense[(r, c)]
-            );
-        }
-    }
-    let xm: Vec<f64> = x.iter().map(|a| -a).collect();
-    let mut g = vec![0.0; n];
-    v.rhs_into(&xm, speed, &mut g);
-    let scale = f.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
-    for i in 0..n {
-        assert!((f[i] + g[i]).abs() <= 1e-13 * scale, "row {i}");
-    }
+    common::assert_variational_is_the_dense_product::<32>(&v, &x, speed, &jac, &f);
+    common::assert_odd(&v, &x, speed, &f);
 }
 
 /// Strokes beyond the compiled state sizes are refused with the dampers named, not run: a bogie

@@ -405,6 +405,7 @@ fn eight_states() -> Vehicle {
         damping: [0.0; 3],
         series_stiffness: [None; 3],
         force_velocity: [None; 3],
+        bump_stop: None,
     };
     Vehicle::assemble(
         Layout::Bogie,

@@ -155,8 +155,9 @@ def linear(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, Any]:
     (``"onset"``/``"recovery"``), ``"bracket_m_s"``), ``"creep_law_hopf_speeds"`` (the same
     for the study's creep law), ``"linear_critical_speed_m_s"`` (the first Kalker onset, or
     ``None``), ``"creep_law_hopf_speed_m_s"``, ``"centre_conicity"``,
-    ``"klingel_wavelength_m"``, ``"kalker"``, ``"creep_law_details"`` and ``"notes"`` (what
-    the linearisation replaced: a damper's force–velocity curve by its slope at zero).
+    ``"klingel_wavelength_m"``, ``"wheelset_conicities"`` (each wheelset's, front to rear),
+    ``"kalker"``, ``"creep_law_details"`` and ``"notes"`` (what the linearisation replaced: a
+    damper's force–velocity curve by its slope at zero; that the wheelsets' conicities differ).
 
     With ``out``, writes ``linear.json``, ``spectrum.csv`` and the figures to
     ``out/<name>/``.

@@ -83,6 +83,7 @@ def cli_error(tmp_path, text):
         ("contact", "friction", "lots", ["friction"]),
         ("contact", "creep_law", "magic", ["is not one of"]),
         ("suspension", "lateral_stifness", 1.0, ["unknown field"]),
+        ("suspension", "bump_stop_clearance", "-3 mm", ["must be positive"]),
     ],
 )
 def test_bad_input_raises_the_cli_message_naming_the_key(tmp_path, section, key, value, words):

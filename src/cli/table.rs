@@ -130,6 +130,12 @@ pub fn geometry(g: &GeometryReport) -> String {
         "  effective conicity at the centre (dr_R/dy) {:.6}",
         g.centre_conicity
     );
+    if let Some(w) = &g.wheelsets {
+        let _ = writeln!(
+            s,
+            "  the wheelsets' own geometries: {w} (this table is [contact]'s)"
+        );
+    }
     if let Some(c) = g.rows.get(n / 2) {
         let _ = writeln!(
             s,
@@ -416,6 +422,13 @@ pub fn vehicle(v: &crate::model::Vehicle) -> String {
                 format!("genuine for |y| <= {:.4} mm", w * 1e3)
             })
     );
+    if v.wheelset_tables().iter().any(Option::is_some) {
+        let _ = writeln!(
+            s,
+            "wheelsets with their own contact geometry ([[contact.wheelset]]), centre conicities: {}",
+            v.conicity_summary()
+        );
+    }
     let _ = writeln!(
         s,
         "vehicle: {} ({} states: the coordinates below, then their rates in the same order)",
@@ -454,6 +467,22 @@ pub fn vehicle(v: &crate::model::Vehicle) -> String {
         v.elements.len()
     );
     for e in &v.elements {
+        if let Some(stop) = &e.bump_stop {
+            let law = match stop.law {
+                crate::model::StopLaw::Linear(_) => "linear",
+                crate::model::StopLaw::Table(_) => "progressive table",
+            };
+            let _ = writeln!(
+                s,
+                "  {:<34} {} -> {}  lateral bump stop: clearance {} m, stiffness {} N/m ({law})",
+                e.name,
+                end(&e.a),
+                end(&e.b),
+                stop.clearance,
+                stop.law.initial_stiffness()
+            );
+            continue;
+        }
         let _ = writeln!(
             s,
             "  {:<34} {} -> {}  k = {:?}  c = {:?}",

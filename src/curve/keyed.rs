@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::contact::table::ContactTable;
+use crate::contact::table::{ContactTable, TableError};
 use crate::model::Vehicle;
 use crate::study::schema::StudyFile;
 use crate::study::{self, Plan};
@@ -104,15 +104,23 @@ impl KeyedStudy {
         let plan = self
             .plan_at(value)
             .map_err(|e| failed(format!("{} = {value}: {e}", self.key)))?;
-        let table = if plan.contact.geometry == self.base.contact.geometry
+        let (table, own) = if plan.contact.geometry == self.base.contact.geometry
+            && plan.contact.wheelsets == self.base.contact.wheelsets
             && plan.table_spec() == self.base.table_spec()
         {
-            self.base_model.contact.table.clone()
+            (
+                self.base_model.contact.table.clone(),
+                self.base_model.wheelset_tables().to_vec(),
+            )
         } else {
-            ContactTable::build(&plan.contact.geometry, &plan.table_spec())
-                .map_err(|e| failed(format!("contact geometry: {e}")))?
+            let geometry = |e: TableError| failed(format!("contact geometry: {e}"));
+            (
+                ContactTable::build(&plan.contact.geometry, &plan.table_spec())
+                    .map_err(geometry)?,
+                plan.wheelset_tables().map_err(geometry)?,
+            )
         };
-        plan.model_with(table)
+        plan.model_with_tables(table, own)
             .map_err(|e| failed(format!("model: {e}")))
     }
 }

@@ -17,12 +17,14 @@
 //!   secondary above the frame's and the car body's centres.
 //! * **secondary vertical** (when given): the same ends at $±d_v$, stiffness and damping along z.
 //! * **yaw damper** (when given): the same ends at $±d_{yd}$, damping along x.
+//! * **bump stops** (when given, docs/model.md §13): one per wheelset on the primary's lateral
+//!   deflection and one per frame on the secondary's, free play $±δ_b$ then a stiff spring.
 //!
 //! Check (docs/model.md §11): for the wheelset layout the two primary elements give exactly
 //! $F_s = −2K_{py}y − 2C_{py}\dot y$ and $M_s = −2K_{px}d^2ψ − 2C_{px}d^2\dot ψ$ of §7.
 
 use super::vehicle::{AssemblyError, Attachment, Body, BodyKind, Element, Layout, Vehicle};
-use super::{ForceVelocity, Wheelset};
+use super::{ForceVelocity, StopSpec, Wheelset};
 
 /// The stiffness in series with each damper of a suspension (per side, N/m; docs/model.md §13):
 /// `Some` makes that damper a Maxwell element with a stroke state; `None` attaches it rigidly.
@@ -59,6 +61,9 @@ pub struct PrimaryVertical {
     pub height: f64,
     /// the primary dampers' series stiffnesses (`yaw` unused)
     pub series: DamperSeries,
+    /// a lateral bump stop per wheelset, wheelset to frame (to the track for the wheelset
+    /// layout), docs/model.md §13; `None`: none
+    pub bump_stop: Option<StopSpec>,
 }
 
 /// A bogie frame, SI.
@@ -104,6 +109,9 @@ pub struct Secondary {
     /// the yaw dampers' force–velocity characteristic (on series stiffness only);
     /// `yaw_damping` is then its slope at zero
     pub yaw_damper_force_velocity: Option<ForceVelocity>,
+    /// a lateral bump stop per frame, frame to car body (to the track for a bogie),
+    /// docs/model.md §13; `None`: none
+    pub bump_stop: Option<StopSpec>,
 }
 
 /// The car body, SI.
@@ -210,6 +218,21 @@ fn primary(
                 pv.series.vertical,
             ],
             force_velocity: [None; 3],
+            bump_stop: None,
+        });
+    }
+    if let Some(stop) = pv.bump_stop {
+        // one stop per wheelset on the lateral deflection of the springs above (the lateral
+        // row does not depend on the side)
+        out.push(Element {
+            name: format!("primary bump stop, {}", w.1),
+            a: at(Some(w.0), [0.0, 0.0, 0.0]),
+            b: at(frame, [x_on_frame, 0.0, -pv.height]),
+            stiffness: [0.0; 3],
+            damping: [0.0; 3],
+            series_stiffness: [None; 3],
+            force_velocity: [None; 3],
+            bump_stop: Some(stop),
         });
     }
 }
@@ -238,6 +261,7 @@ fn secondary(
                 damping: c,
                 series_stiffness: ks,
                 force_velocity: g,
+                bump_stop: None,
             });
         }
     };
@@ -265,6 +289,20 @@ fn secondary(
         [series.yaw, None, None],
         [sec.yaw_damper_force_velocity, None, None],
     );
+    if let Some(stop) = sec.bump_stop {
+        // one stop per frame on the secondary springs' lateral deflection (roll lever arms
+        // included; the lateral row does not depend on the side)
+        out.push(Element {
+            name: format!("secondary bump stop, {}", frame.1),
+            a: at(Some(frame.0), [0.0, 0.0, -sec.height]),
+            b: at(car, [xb, 0.0, -hc]),
+            stiffness: [0.0; 3],
+            damping: [0.0; 3],
+            series_stiffness: [None; 3],
+            force_velocity: [None; 3],
+            bump_stop: Some(stop),
+        });
+    }
 }
 
 /// Builds the vehicle of `spec` around `contact` (the wheelset's mass, inertia, contact and

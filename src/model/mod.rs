@@ -9,12 +9,15 @@
 //! $$m\ddot y = F_{y,R} + F_{y,L} + F_N + F_f + F_s$$
 //! $$I_z\ddot ψ = l_0 (F_{x,L} − F_{x,R}) + M_{z,R} + M_{z,L} + M_s$$
 
+pub mod bump_stop;
 pub mod damper;
 pub mod layouts;
 #[cfg(test)]
 mod tests;
 pub mod vehicle;
+mod wheelsets;
 
+pub use bump_stop::{BumpStop, StopLaw, StopSpec, StopTable};
 pub use damper::ForceVelocity;
 pub use layouts::{
     CarBodyParams, DamperSeries, FrameParams, PrimaryVertical, Secondary, VehicleSpec,
@@ -83,6 +86,11 @@ pub struct Wheelset {
     pub table: ContactTable,
 }
 
+/// Effective conicity at the centre of a contact geometry table, $λ_e = dr_R/dy(0)$ (–).
+pub fn centre_conicity(table: &ContactTable) -> f64 {
+    table.right(Dual::<1>::var(0.0, 0)).radius.eps[0]
+}
+
 /// Flange force $F_f$ (N) at displacement `y` (m); zero inside the dead band.
 #[inline]
 pub fn flange_force<T: Scalar>(flange: Option<&Flange>, y: T) -> T {
@@ -148,10 +156,18 @@ impl Wheelset {
     /// wheelset carries exactly these forces in its own state (docs/model.md §11).
     #[inline]
     pub fn contact_forces<T: Scalar>(&self, x: &[T; 4], v: f64) -> (T, T) {
+        self.contact_forces_on(&self.table, x, v)
+    }
+
+    /// [`Self::contact_forces`] on the contact geometry `table` instead of the wheelset's own:
+    /// a vehicle whose wheelsets have their own profiles (docs/model.md §11) keeps one creep
+    /// law, spin, flange and axle load and hands each wheelset its table.
+    #[inline]
+    pub fn contact_forces_on<T: Scalar>(&self, table: &ContactTable, x: &[T; 4], v: f64) -> (T, T) {
         let p = &self.params;
         let y = x[0];
-        let right = self.table.right(y);
-        let left = self.table.left(y);
+        let right = table.right(y);
+        let left = table.left(y);
         let (trig_r, trig_l) = (right.angle.sin_cos(), left.angle.sin_cos());
         let fr = self.wheel_force(&right, trig_r, 1.0, x, v);
         let fl = self.wheel_force(&left, trig_l, -1.0, x, v);
@@ -201,8 +217,7 @@ impl Wheelset {
 
     /// Effective conicity at the centre, $λ_e = dr_R/dy(0)$ (–).
     pub fn centre_conicity(&self) -> f64 {
-        let w = self.table.right(Dual::<1>::var(0.0, 0));
-        w.radius.eps[0]
+        centre_conicity(&self.table)
     }
 
     /// Kinematic (Klingel) wavelength $L_k = 2π\sqrt{r_0 l_0/λ_e}$ (m), docs/model.md §9.

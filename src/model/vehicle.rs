@@ -30,8 +30,10 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use super::bump_stop::{BumpStop, StopSpec};
 use super::{ForceVelocity, Wheelset};
 use crate::contact::creep::CreepLaw;
+use crate::contact::table::ContactTable;
 use crate::system::scalar::Dual;
 
 /// Which assembly a study describes (docs/model.md §11's three layouts).
@@ -132,6 +134,9 @@ pub struct Element {
     /// the damper's force–velocity characteristic along x, y, z (docs/model.md §13), for a
     /// damper on series stiffness; `None`: linear, its `damping`
     pub force_velocity: [Option<ForceVelocity>; 3],
+    /// a lateral bump stop on this element's lateral deflection (docs/model.md §13): free play
+    /// $±δ_b$, then the stop's law; `None`: no stop
+    pub bump_stop: Option<StopSpec>,
 }
 
 /// The stroke of a damper on series stiffness (a Maxwell element, docs/model.md §13), one
@@ -203,10 +208,15 @@ pub struct Vehicle {
     pub elements: Vec<Element>,
     /// the strokes of the dampers on series stiffness, in state order after $\dot q$
     pub maxwell: Vec<Maxwell>,
+    /// the lateral bump stops (docs/model.md §13), each on one lateral deflection
+    pub stops: Vec<BumpStop>,
     /// wheel–rail contact shared by every wheelset: geometry table, creep law, spin, flange,
     /// axle load and nominal radius (its `suspension` is the primary, per side, which the
     /// elements already hold)
     pub contact: Wheelset,
+    /// each wheelset's own contact geometry, front to rear (`None`, or beyond the list: the
+    /// common `contact.table`); see [`Vehicle::with_wheelset_tables`]
+    pub(super) wheelset_tables: Vec<Option<ContactTable>>,
     /// $y$ index of each wheelset, front to rear
     wheelset_dofs: Vec<usize>,
     /// generalised mass per coordinate (kg or kg m²)
@@ -235,6 +245,8 @@ struct LowerEntry {
     base: f64,
     scaled: f64,
     contact: Option<usize>,
+    /// this entry's bump-stop terms: `Lower::stop_terms[stops.0..stops.1]`
+    stops: (usize, usize),
 }
 
 /// The sparsity of the Jacobian's lower block, known at assembly: the elements' nonzero
@@ -253,18 +265,27 @@ struct Lower {
     contact: Vec<Option<(usize, usize)>>,
     /// per row: the generalised mass it is divided by (1 for a stroke's row)
     divisors: Vec<f64>,
+    /// `(stop, b_i b_j)`: entry $(i, j)$ of a bump stop's $b^{\mathsf T} F'(Δ)\,b$, in stop order
+    stop_terms: Vec<(usize, f64)>,
 }
 
 impl Lower {
     /// From the dense lower block `block` (row-major, `rows` × `cols`: the $n$ acceleration
     /// rows, then one row per Maxwell stroke) and each row's divisor (its generalised mass; 1
     /// for a stroke).
-    fn new(block: &[f64], cols: usize, divisors: &[f64], n: usize, wheelsets: &[usize]) -> Self {
+    fn new(
+        block: &[f64],
+        cols: usize,
+        divisors: &[f64],
+        (n, wheelsets): (usize, &[usize]),
+        stops: &[BumpStop],
+    ) -> Self {
         let mut lower = Lower {
             entries: Vec::new(),
             starts: vec![0],
             contact: Vec::with_capacity(divisors.len()),
             divisors: divisors.to_vec(),
+            stop_terms: Vec::new(),
         };
         for (i, (row, &divisor)) in block.chunks_exact(cols.max(1)).zip(divisors).enumerate() {
             let row_contact = wheelsets
@@ -278,12 +299,21 @@ impl Lower {
             });
             for (col, &base) in row.iter().enumerate() {
                 let contact = contact_cols.and_then(|c| c.iter().position(|&k| k == col));
-                if base != 0.0 || contact.is_some() {
+                let first = lower.stop_terms.len();
+                for (k, stop) in stops.iter().enumerate() {
+                    let coef = |j: usize| stop.row.iter().find(|r| r.0 == j).map(|r| r.1);
+                    if let (Some(bi), Some(bj)) = (coef(i), coef(col)) {
+                        lower.stop_terms.push((k, bi * bj));
+                    }
+                }
+                let stop_range = (first, lower.stop_terms.len());
+                if base != 0.0 || contact.is_some() || stop_range.1 > first {
                     lower.entries.push(LowerEntry {
                         col,
                         base,
                         scaled: base / divisor,
                         contact,
+                        stops: stop_range,
                     });
                 }
             }
@@ -362,6 +392,10 @@ pub enum AssemblyError {
         names: String,
         sizes: Vec<usize>,
     },
+    #[error(
+        "{given} wheelset contact geometries given, but the vehicle has {wheelsets} wheelsets"
+    )]
+    WheelsetTables { given: usize, wheelsets: usize },
 }
 
 /// Row of $B$ for one axis of an attachment's displacement, over `n` coordinates.
@@ -485,6 +519,7 @@ impl Vehicle {
         let mut stiffness = vec![0.0; n * n];
         let mut damping = vec![0.0; n * n];
         let mut maxwell: Vec<Maxwell> = Vec::new();
+        let mut stops: Vec<BumpStop> = Vec::new();
         for e in &elements {
             for at in [&e.a, &e.b] {
                 if let Some(i) = at.body.filter(|&i| i >= bodies.len()) {
@@ -510,6 +545,24 @@ impl Vehicle {
             if (0..3).any(|a| e.force_velocity[a].is_some() && e.series_stiffness[a].is_none()) {
                 return Err(AssemblyError::CurveWithoutSeries {
                     name: e.name.clone(),
+                });
+            }
+            if let Some(spec) = &e.bump_stop {
+                let k = spec.law.initial_stiffness();
+                let ok = |v: f64| v.is_finite() && v > 0.0;
+                if !(ok(spec.clearance) && ok(k)) {
+                    return Err(AssemblyError::BadElement {
+                        name: e.name.clone(),
+                    });
+                }
+                let ra = displacement_row(&bodies, &e.a, 1, n);
+                let rb = displacement_row(&bodies, &e.b, 1, n);
+                let row = ra.iter().zip(&rb).map(|(a, b)| a - b).enumerate();
+                stops.push(BumpStop {
+                    name: e.name.clone(),
+                    row: row.filter(|(_, v)| *v != 0.0).collect(),
+                    clearance: spec.clearance,
+                    law: spec.law,
                 });
             }
             for axis in 0..3 {
@@ -582,13 +635,15 @@ impl Vehicle {
         }
         let divisors: Vec<f64> = mass.iter().copied().chain(vec![1.0; m]).collect();
         let sparse = [Sparse::new(&stiffness, n), Sparse::new(&damping, n)];
-        let lower = Lower::new(&block, s, &divisors, n, &wheelset_dofs);
+        let lower = Lower::new(&block, s, &divisors, (n, &wheelset_dofs), &stops);
         Ok(Self {
             layout,
             bodies,
             elements,
             maxwell,
+            stops,
             contact,
+            wheelset_tables: Vec::new(),
             wheelset_dofs,
             mass,
             stiffness,
@@ -696,6 +751,30 @@ impl Vehicle {
         }
     }
 
+    /// Adds the bump stops' generalised forces $b^{\mathsf T} F(b\,q)$ at coordinates `q` to
+    /// `acc` (before the masses).
+    #[inline]
+    fn stops_into(&self, q: &[f64], acc: &mut [f64]) {
+        for stop in &self.stops {
+            let (f, _) = stop.force(stop.deflection(q));
+            for &(i, b) in &stop.row {
+                acc[i] += b * f;
+            }
+        }
+    }
+
+    /// Adds the bump stops' part of $J\,ξ$, $b^{\mathsf T} F'(b\,q)\,b\,ξ_q$ at coordinates
+    /// `q`, to `acc` (before the masses).
+    fn stops_tangent_into(&self, q: &[f64], xi: &[f64], acc: &mut [f64]) {
+        for stop in &self.stops {
+            let (_, slope) = stop.force(stop.deflection(q));
+            let d = slope * stop.deflection(xi);
+            for &(i, b) in &stop.row {
+                acc[i] += b * d;
+            }
+        }
+    }
+
     /// Each stroke's derivative factor at state `x` ([`Maxwell::rate_at`]): 1 for a linear
     /// damper. `None` when every damper is linear (nothing to scale).
     fn stroke_factors(&self, x: &[f64]) -> Option<Vec<f64>> {
@@ -717,9 +796,10 @@ impl Vehicle {
     pub fn rhs_into(&self, x: &[f64], v: f64, out: &mut [f64]) {
         let n = self.dofs();
         self.elements_into(x, out);
+        self.stops_into(&x[..n], &mut out[n..2 * n]);
         let acc = &mut out[n..2 * n];
-        for &w in &self.wheelset_dofs {
-            let (qy, qpsi) = self.contact.contact_forces(&self.wheelset_state(x, w), v);
+        for (j, &w) in self.wheelset_dofs.iter().enumerate() {
+            let (qy, qpsi) = self.wheelset_forces(j, &self.wheelset_state(x, w), v);
             // (a + b == b + a exactly: the same sum as docs/model.md §8 written out)
             acc[w] += qy;
             acc[w + 1] += qpsi;
@@ -751,6 +831,8 @@ impl Vehicle {
         let n = self.dofs();
         self.elements_into(x, out);
         self.elements_into(xi, d);
+        self.stops_into(&x[..n], &mut out[n..2 * n]);
+        self.stops_tangent_into(&x[..n], &xi[..n], &mut d[n..2 * n]);
         if let Some(factors) = self.stroke_factors(x) {
             // the strokes' rows of J ξ: the linear form at ξ times each stroke's factor at x
             let (q, z) = (&xi[..n], &xi[2 * n..]);
@@ -758,13 +840,13 @@ impl Vehicle {
                 d[2 * n + k] = mx.rate() * (mx.deflection(q) - z[k]) * fk;
             }
         }
-        for &w in &self.wheelset_dofs {
+        for (j, &w) in self.wheelset_dofs.iter().enumerate() {
             let (xw, dw) = (self.wheelset_state(x, w), self.wheelset_state(xi, w));
             let xd: [Dual<1>; 4] = std::array::from_fn(|k| Dual {
                 re: xw[k],
                 eps: [dw[k]],
             });
-            let (qy, qpsi) = self.contact.contact_forces(&xd, v);
+            let (qy, qpsi) = self.wheelset_forces(j, &xd, v);
             out[n + w] += qy.re;
             out[n + w + 1] += qpsi.re;
             d[n + w] += qy.eps[0];
@@ -793,13 +875,23 @@ impl Vehicle {
                 jac[at(n + i, e.col)] = factor.map_or(e.base, |f| e.base * f);
             }
         }
+        // the bump stops' b^T F'(Δ) b, added entry by entry in stop order (as `Lower` sums it)
+        for stop in &self.stops {
+            let (_, slope) = stop.force(stop.deflection(&x[..n]));
+            for &(i, bi) in &stop.row {
+                for &(j, bj) in &stop.row {
+                    jac[at(n + i, j)] += bi * bj * slope;
+                }
+            }
+        }
         if let Some(out) = out.as_deref_mut() {
             self.elements_into(x, out);
+            self.stops_into(&x[..n], &mut out[n..2 * n]);
         }
-        for &w in &self.wheelset_dofs {
+        for (j, &w) in self.wheelset_dofs.iter().enumerate() {
             let xw = self.wheelset_state(x, w);
             let xd: [Dual<4>; 4] = std::array::from_fn(|k| Dual::var(xw[k], k));
-            let (qy, qpsi) = self.contact.contact_forces(&xd, v);
+            let (qy, qpsi) = self.wheelset_forces(j, &xd, v);
             let cols = [w, w + 1, n + w, n + w + 1];
             for (row, d) in [(n + w, qy), (n + w + 1, qpsi)] {
                 for (&c, e) in cols.iter().zip(d.eps) {
@@ -823,14 +915,18 @@ impl Vehicle {
         }
     }
 
-    /// Effective conicity at the centre (–), of the common contact geometry.
+    /// Effective conicity at the centre (–) of the leading wheelset's contact geometry (the
+    /// common one unless the wheelsets have their own, [`Self::wheelset_conicities`]).
     pub fn centre_conicity(&self) -> f64 {
-        self.contact.centre_conicity()
+        super::centre_conicity(self.wheelset_table(0))
     }
 
-    /// Kinematic (Klingel) wavelength of one free wheelset (m), docs/model.md §9.
+    /// Kinematic (Klingel) wavelength of one free wheelset (m), docs/model.md §9, at the
+    /// leading wheelset's centre conicity ([`Self::centre_conicity`]).
     pub fn klingel_wavelength(&self) -> f64 {
-        self.contact.klingel_wavelength()
+        let p = &self.contact.params;
+        2.0 * std::f64::consts::PI
+            * (p.rolling_radius * p.half_contact_distance / self.centre_conicity()).sqrt()
     }
 
     /// Switching function `k` of the flange dead bands at state `x` (at least the wheelsets'
@@ -852,7 +948,8 @@ impl Vehicle {
     }
 
     /// Number of switching functions: the flange dead bands' ([`Self::flange_switch`]), then
-    /// two per knee of each stroke's force–velocity curve.
+    /// two per knee of each stroke's force–velocity curve, then each bump stop's
+    /// ([`BumpStop::switches`]: two for its edges, two per knee of a table).
     pub fn switches(&self) -> usize {
         let flange = if self.contact.flange.is_some() {
             2 * self.wheelset_dofs.len()
@@ -864,14 +961,15 @@ impl Vehicle {
             .iter()
             .map(|mx| mx.law.as_ref().map_or(0, |g| 2 * g.knee_forces().len()))
             .sum();
-        flange + knees
+        let stops: usize = self.stops.iter().map(BumpStop::switches).sum();
+        flange + knees + stops
     }
 
     /// Switching function `k` of [`Self::switches`] at state `x` (NaN if `k` or `x` is out of
     /// range): the flange's, then for each stroke on a curve and each knee $F_i$ of it,
     /// $F − F_i$ and $−F − F_i$ with $F = k_s(Δ − z)$ the force in each damper, written with the
     /// comparisons of [`ForceVelocity::velocity_at`] so that the sign changes exactly where
-    /// the curve's segment does.
+    /// the curve's segment does; then each bump stop's [`BumpStop::switch`] at its deflection.
     pub fn switch(&self, k: usize, x: &[f64]) -> f64 {
         let flange = if self.contact.flange.is_some() {
             2 * self.wheelset_dofs.len()
@@ -896,6 +994,15 @@ impl Vehicle {
             }
             k -= 2 * knees.len();
         }
+        for stop in &self.stops {
+            if k < stop.switches() {
+                return match x.get(..n) {
+                    Some(q) => stop.switch(k, stop.deflection(q)),
+                    None => f64::NAN,
+                };
+            }
+            k -= stop.switches();
+        }
         f64::NAN
     }
 
@@ -904,7 +1011,8 @@ impl Vehicle {
     pub fn guiding_forces(&self, x: &[f64], v: f64) -> Vec<f64> {
         self.wheelset_dofs
             .iter()
-            .map(|&w| self.contact.contact_forces(&self.wheelset_state(x, w), v).0)
+            .enumerate()
+            .map(|(j, &w)| self.wheelset_forces(j, &self.wheelset_state(x, w), v).0)
             .collect()
     }
 }
@@ -985,11 +1093,12 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
         let mut f = SVector::<f64, N>::zeros();
         let out = f.as_mut_slice();
         self.elements_into(xs, out);
+        self.stops_into(&xs[..n], &mut out[n..2 * n]);
         let mut partials = [[[0.0; 4]; 2]; MAX_WHEELSETS];
         for (j, &w) in self.wheelset_dofs.iter().enumerate() {
             let xw = self.wheelset_state(xs, w);
             let xd: [Dual<4>; 4] = std::array::from_fn(|k| Dual::var(xw[k], k));
-            let (qy, qpsi) = self.contact.contact_forces(&xd, v);
+            let (qy, qpsi) = self.wheelset_forces(j, &xd, v);
             out[n + w] += qy.re;
             out[n + w + 1] += qpsi.re;
             if let Some(p) = partials.get_mut(j) {
@@ -1002,19 +1111,30 @@ impl<const N: usize> crate::system::ode::VectorField<N> for Vehicle {
         // the lower block's entries, row by row, as the dense Jacobian holds them
         let lower = &self.lower;
         let factors = self.stroke_factors(xs);
+        let slopes: Vec<f64> = self
+            .stops
+            .iter()
+            .map(|s| s.force(s.deflection(&xs[..n])).1)
+            .collect();
         let mut values = SMatrix::<f64, N, N>::zeros();
         let vals = values.as_mut_slice();
         for i in 0..lower.rows() {
             let row = lower.starts[i]..lower.starts[i + 1];
             let factor = factors.as_ref().and_then(|f| f.get(i.wrapping_sub(n)));
             for (slot, e) in vals[row.clone()].iter_mut().zip(&lower.entries[row]) {
+                // (the dense Jacobian's order: −K, then each stop's term, then the contact)
+                let terms = &lower.stop_terms[e.stops.0..e.stops.1];
+                let base = terms.iter().fold(e.base, |a, &(k, c)| {
+                    a + c * slopes.get(k).copied().unwrap_or(f64::NAN)
+                });
                 *slot = match (e.contact, lower.contact[i], factor) {
                     (Some(k), Some((j, side)), _) => {
                         let d = partials.get(j).map_or(f64::NAN, |p| p[side][k]);
-                        (e.base + d) / lower.divisors[i]
+                        (base + d) / lower.divisors[i]
                     }
                     (_, _, Some(f)) => e.scaled * f,
-                    _ => e.scaled,
+                    _ if terms.is_empty() => e.scaled,
+                    _ => base / lower.divisors[i],
                 };
             }
         }

@@ -131,6 +131,7 @@ pub fn linear_json(r: &LinearReport) -> Value {
         "creep_law_hopf_speed_m_s": law.critical().map(|c| c.speed_m_s),
         "centre_conicity": r.centre_conicity,
         "klingel_wavelength_m": r.klingel_wavelength_m,
+        "wheelset_conicities": r.wheelset_conicities,
         "kalker": details_json(&r.kalker, &r.kalker_modes, &r.kalker_lyapunov),
         "creep_law_details": details_json(law, law_modes, r.law_lyapunov()),
         "notes": r.notes,

@@ -122,6 +122,35 @@ impl Section<'_> {
         }
     }
 
+    /// the bump stop's keys
+    fn bump_stop(&mut self, stop: Option<&crate::model::StopSpec>) {
+        let Some(stop) = stop else {
+            self.text("bump_stop_clearance", "none (no bump stop)");
+            return;
+        };
+        self.num("bump_stop_clearance", stop.clearance, Length);
+        self.num(
+            "bump_stop_stiffness",
+            stop.law.initial_stiffness(),
+            Stiffness,
+        );
+        match &stop.law {
+            crate::model::StopLaw::Linear(_) => self.text(
+                "bump_stop_force_table",
+                "none (linear beyond the clearance)",
+            ),
+            crate::model::StopLaw::Table(t) => {
+                let points: Vec<String> = t
+                    .points()
+                    .iter()
+                    .skip(1)
+                    .map(|(p, g)| format!("[{} m, {} N]", si(*p), si(*g)))
+                    .collect();
+                self.text("bump_stop_force_table", points.join(", "))
+            }
+        }
+    }
+
     /// the five keys the primary and the secondary share
     fn springs(&mut self, k: [f64; 4], spacing: f64) {
         self.num("lateral_stiffness", k[0], Stiffness);
@@ -167,6 +196,7 @@ pub fn entries(p: &Plan) -> Vec<Entry> {
     s.num("vertical_damping", p.primary_vertical.damping, Damping);
     s.num("height", p.primary_vertical.height, Length);
     s.series(&p.primary_vertical.series, false);
+    s.bump_stop(p.primary_vertical.bump_stop.as_ref());
     vehicle(&mut out, &p.vehicle);
     contact(&mut out, p);
     let mut s = Section {
@@ -297,6 +327,7 @@ fn secondary(out: &mut Vec<Entry>, c: &Secondary) {
     s.num("vertical_half_spacing", c.vertical_half_spacing, Length);
     s.num("height", c.height, Length);
     s.series(&c.series, true);
+    s.bump_stop(c.bump_stop.as_ref());
 }
 
 fn carbody(out: &mut Vec<Entry>, b: &CarBodyParams) {

@@ -14,6 +14,7 @@ pub mod schema;
 mod tabulated;
 pub mod units;
 mod vehicle;
+mod wheelsets;
 
 use std::path::Path;
 
@@ -31,6 +32,7 @@ use crate::stability::LinearOptions;
 pub use attractors::AttractorSettings;
 use schema::{Quantity, StudyFile};
 use units::{parse_quantity, Dimension, UnitProblem};
+pub use wheelsets::WheelsetGeometry;
 
 /// The seed study (docs/model.md §10), embedded so that `critspeed run` works with no file.
 pub const DEFAULT_STUDY: &str = include_str!("../../studies/seed.toml");
@@ -100,6 +102,8 @@ pub struct ContactPlan {
     pub table_points: usize,
     /// what the analyses may do beyond the table's valid range (default: cut there)
     pub extrapolate: Extrapolation,
+    /// wheelsets with their own geometry (`[[contact.wheelset]]`); the others have `geometry`
+    pub wheelsets: Vec<WheelsetGeometry>,
 }
 
 impl ContactPlan {
@@ -109,10 +113,19 @@ impl ContactPlan {
     /// linear extension is exact. This is the limit the analyses cut branches and attractors
     /// at ([`Self::analysis_limit`]).
     pub fn valid_half_width(&self) -> Option<f64> {
-        match self.geometry {
-            Geometry::Cone { .. } => None,
-            _ => Some(self.lateral_range),
-        }
+        let cones = std::iter::once(&self.geometry)
+            .chain(self.wheelsets.iter().map(|w| &w.geometry))
+            .all(|g| matches!(g, Geometry::Cone { .. }));
+        (!cones).then_some(self.lateral_range)
+    }
+
+    /// The geometry of the wheelset at `position` (1-based, front to rear): its own, else
+    /// `[contact]`'s.
+    pub fn geometry_at(&self, position: usize) -> &Geometry {
+        self.wheelsets
+            .iter()
+            .find(|w| w.positions.contains(&position))
+            .map_or(&self.geometry, |w| &w.geometry)
     }
 
     /// The half-width (m) where the analyses cut a branch or an attractor: the valid range,
@@ -334,7 +347,25 @@ pub(crate) fn plan_with(
         None => contact_plan(&f.contact, &wheelset, flange.as_ref(), folder)?,
     };
     let vehicle = vehicle::spec(&f)?;
+    wheelsets::check_positions(&contact.wheelsets, wheelsets::wheelset_count(&vehicle))?;
     let primary_vertical = vehicle::primary_vertical(&f)?;
+    // the wheelset layout's primary stop limits the wheelset's own y, which the contact
+    // geometry covers up to its lateral range; on a bogie or car the stop's deflection is the
+    // wheelset's y relative to its frame, which has no such bound
+    if let (VehicleSpec::Wheelset, Some(stop)) = (&vehicle, &primary_vertical.bump_stop) {
+        if stop.clearance >= contact.lateral_range {
+            return Err(rule(
+                "suspension.bump_stop_clearance",
+                format!("{} m", plausible::si(stop.clearance)),
+                &format!(
+                    "must be below the contact geometry's lateral range {} m: on the wheelset \
+                     layout the stop limits the wheelset's y, and a stop beyond the range never \
+                     acts inside it",
+                    plausible::si(contact.lateral_range)
+                ),
+            ));
+        }
+    }
     let (linear, spectrum_points) = linear_plan(f.linear.as_ref())?;
     let bifurcation = f
         .bifurcation
@@ -439,72 +470,7 @@ fn contact_plan(
         .as_ref()
         .map(|q| positive("contact.rail_head_radius", q, Dimension::Length))
         .transpose()?;
-    let cone_slope = || match &c.conicity {
-        Some(q) => conicity(q),
-        None => Err(StudyError::Missing {
-            key: "contact.conicity".into(),
-            why: format!("geometry {:?} needs the cone slope", c.geometry),
-        }),
-    };
-    let geometry = match c.geometry.as_str() {
-        "cone" => Geometry::Cone {
-            conicity: cone_slope()?,
-        },
-        "table" => tabulated::geometry(c, w, folder)?,
-        "profiles" => profiles::geometry(
-            c,
-            folder.unwrap_or(Path::new("")),
-            rail_head_radius.is_some(),
-            w.half_contact_distance,
-        )?,
-        "cone-on-arc" => {
-            let lambda = cone_slope()?;
-            let radius = rail_head_radius.ok_or_else(|| StudyError::Missing {
-                key: "contact.rail_head_radius".into(),
-                why: "geometry \"cone-on-arc\" needs the rail head radius".into(),
-            })?;
-            // Default: the offset at which the arc's slope under the nominal contact point
-            // equals the cone's, so that the centred contact is at the nominal point.
-            let tangent_offset = radius * lambda.atan().sin();
-            let crown_offset = match &c.crown_offset {
-                Some(q) => checked(
-                    "contact.crown_offset",
-                    q,
-                    Dimension::Length,
-                    |v| v >= 0.0 && v < 0.5 * radius,
-                    "must lie in [0, rail_head_radius/2)",
-                )?,
-                None => tangent_offset,
-            };
-            Geometry::ConeOnArc {
-                conicity: lambda,
-                rail_head_radius: radius,
-                crown_offset,
-            }
-        }
-        other => {
-            return Err(StudyError::Choice {
-                key: "contact.geometry".into(),
-                value: other.into(),
-                allowed: "\"cone\", \"cone-on-arc\", \"table\", \"profiles\"",
-            })
-        }
-    };
-    if c.geometry != "table" && c.geometry_table.is_some() {
-        return Err(rule(
-            "contact.geometry_table",
-            "given",
-            "only applies to geometry \"table\"",
-        ));
-    }
-    profiles::only_for_profiles(c)?;
-    if c.geometry == "cone" && c.crown_offset.is_some() {
-        return Err(StudyError::Rule {
-            key: "contact.crown_offset".into(),
-            value: "given".into(),
-            rule: "only applies to geometry \"cone-on-arc\"".into(),
-        });
-    }
+    let geometry = geometry_of(c, w, rail_head_radius, folder)?;
     let friction = match &c.friction {
         Some(q) => positive("contact.friction", q, Dimension::Dimensionless)?,
         None => 0.3,
@@ -616,7 +582,16 @@ fn contact_plan(
             allowed: Extrapolation::ALLOWED,
         })?,
     };
+    let wheelsets = wheelsets::plan(&wheelsets::Common {
+        section: c,
+        wheelset: w,
+        rail_head_radius,
+        creep,
+        lateral_range,
+        folder,
+    })?;
     Ok(ContactPlan {
+        wheelsets,
         geometry,
         creep_law,
         spin: c.spin.unwrap_or(true),
@@ -631,6 +606,83 @@ fn contact_plan(
         table_points,
         extrapolate,
     })
+}
+
+/// The contact geometry a `[contact]` section describes (the geometry keys; a misplaced one is
+/// an error).
+fn geometry_of(
+    c: &schema::ContactSection,
+    w: &WheelsetParams,
+    rail_head_radius: Option<f64>,
+    folder: Option<&Path>,
+) -> Result<Geometry, StudyError> {
+    let cone_slope = || match &c.conicity {
+        Some(q) => conicity(q),
+        None => Err(StudyError::Missing {
+            key: "contact.conicity".into(),
+            why: format!("geometry {:?} needs the cone slope", c.geometry),
+        }),
+    };
+    let geometry = match c.geometry.as_str() {
+        "cone" => Geometry::Cone {
+            conicity: cone_slope()?,
+        },
+        "table" => tabulated::geometry(c, w, folder)?,
+        "profiles" => profiles::geometry(
+            c,
+            folder.unwrap_or(Path::new("")),
+            rail_head_radius.is_some(),
+            w.half_contact_distance,
+        )?,
+        "cone-on-arc" => {
+            let lambda = cone_slope()?;
+            let radius = rail_head_radius.ok_or_else(|| StudyError::Missing {
+                key: "contact.rail_head_radius".into(),
+                why: "geometry \"cone-on-arc\" needs the rail head radius".into(),
+            })?;
+            // Default: the offset at which the arc's slope under the nominal contact point
+            // equals the cone's, so that the centred contact is at the nominal point.
+            let tangent_offset = radius * lambda.atan().sin();
+            let crown_offset = match &c.crown_offset {
+                Some(q) => checked(
+                    "contact.crown_offset",
+                    q,
+                    Dimension::Length,
+                    |v| v >= 0.0 && v < 0.5 * radius,
+                    "must lie in [0, rail_head_radius/2)",
+                )?,
+                None => tangent_offset,
+            };
+            Geometry::ConeOnArc {
+                conicity: lambda,
+                rail_head_radius: radius,
+                crown_offset,
+            }
+        }
+        other => {
+            return Err(StudyError::Choice {
+                key: "contact.geometry".into(),
+                value: other.into(),
+                allowed: "\"cone\", \"cone-on-arc\", \"table\", \"profiles\"",
+            })
+        }
+    };
+    if c.geometry != "table" && c.geometry_table.is_some() {
+        return Err(rule(
+            "contact.geometry_table",
+            "given",
+            "only applies to geometry \"table\"",
+        ));
+    }
+    profiles::only_for_profiles(c)?;
+    if c.geometry == "cone" && c.crown_offset.is_some() {
+        return Err(StudyError::Rule {
+            key: "contact.crown_offset".into(),
+            value: "given".into(),
+            rule: "only applies to geometry \"cone-on-arc\"".into(),
+        });
+    }
+    Ok(geometry)
 }
 
 fn linear_plan(l: Option<&schema::LinearSection>) -> Result<(LinearOptions, usize), StudyError> {
@@ -725,13 +777,47 @@ impl Plan {
         self.model_with(table)
     }
 
-    /// [`Self::model`] with an already tabulated geometry (sweeps reuse it).
+    /// [`Self::model`] with an already tabulated common geometry; the wheelsets' own
+    /// geometries (`[[contact.wheelset]]`) are tabulated here.
     pub fn model_with(&self, table: ContactTable) -> Result<Vehicle, ModelError> {
-        Ok(layouts::build(
+        self.model_with_tables(table, self.wheelset_tables()?)
+    }
+
+    /// The wheelsets' own contact tables, front to rear (`None`: the common geometry), each
+    /// geometry tabulated once. Empty without `[[contact.wheelset]]`.
+    pub fn wheelset_tables(&self) -> Result<Vec<Option<ContactTable>>, TableError> {
+        let count = self
+            .contact
+            .wheelsets
+            .iter()
+            .flat_map(|w| w.positions.iter().copied())
+            .max()
+            .unwrap_or(0);
+        let mut tables = vec![None; count];
+        for w in &self.contact.wheelsets {
+            let table = ContactTable::build(&w.geometry, &self.table_spec())?;
+            for &p in &w.positions {
+                if let Some(slot) = p.checked_sub(1).and_then(|k| tables.get_mut(k)) {
+                    *slot = Some(table.clone());
+                }
+            }
+        }
+        Ok(tables)
+    }
+
+    /// [`Self::model`] with every table already built (sweeps reuse them): the common one and
+    /// the wheelsets' own ([`Self::wheelset_tables`]).
+    pub fn model_with_tables(
+        &self,
+        table: ContactTable,
+        wheelset_tables: Vec<Option<ContactTable>>,
+    ) -> Result<Vehicle, ModelError> {
+        let vehicle = layouts::build(
             &self.vehicle,
             self.wheelset_with(table),
             &self.primary_vertical,
-        )?)
+        )?;
+        Ok(vehicle.with_wheelset_tables(wheelset_tables)?)
     }
 }
 

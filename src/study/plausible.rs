@@ -229,13 +229,27 @@ macro_rules! springs {
                 SERIES,
                 "rubber end bushes of dampers, soft to stiff",
             ),
+            row(
+                concat!($p, ".bump_stop_clearance"),
+                Length,
+                (1e-3, 0.1),
+                Bounds::left_open(0.0, 1.0),
+                "lateral free play of primary (a few mm) and secondary (20-60 mm) stops",
+            ),
+            row(
+                concat!($p, ".bump_stop_stiffness"),
+                Stiffness,
+                (1e5, 1e9),
+                Bounds::left_open(0.0, 1e11),
+                "rubber and steel lateral bump stops",
+            ),
         ]
     };
 }
 
 /// The spring sections' rows, per side: the primary and the secondary share their keys.
 #[rustfmt::skip]
-const SPRINGS: [[Range; 11]; 2] = [springs!("suspension", "primary"), springs!("secondary", "secondary")];
+const SPRINGS: [[Range; 13]; 2] = [springs!("suspension", "primary"), springs!("secondary", "secondary")];
 
 /// Every range but the spring sections'. Why the numbers: see each `why`; stiffnesses end at
 /// 1e11 N/m (a steel bar is about 1e9 N/m, a Hertz contact 1e9 N/m), dampings at 1e9 N s/m,

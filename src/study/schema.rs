@@ -109,6 +109,15 @@ macro_rules! springs_section {
             /// stiffness in series with the vertical damper
             #[serde(default)]
             pub vertical_damper_series_stiffness: Option<Quantity>,
+            /// a lateral bump stop's free play each way (docs/model.md §13)
+            #[serde(default)]
+            pub bump_stop_clearance: Option<Quantity>,
+            /// the bump stop's stiffness beyond its clearance
+            #[serde(default)]
+            pub bump_stop_stiffness: Option<Quantity>,
+            /// a progressive bump stop: force against penetration beyond the clearance
+            #[serde(default)]
+            pub bump_stop_force_table: Option<BumpStopTableSection>,
             $(
                 $(#[$fmeta])*
                 #[serde(default)]
@@ -130,6 +139,11 @@ macro_rules! springs_section {
                         self.longitudinal_damper_series_stiffness.as_ref(),
                         self.vertical_damper_series_stiffness.as_ref(),
                     ],
+                    bump_stop: [
+                        self.bump_stop_clearance.as_ref(),
+                        self.bump_stop_stiffness.as_ref(),
+                    ],
+                    bump_stop_table: self.bump_stop_force_table.as_ref(),
                 }
             }
         }
@@ -151,6 +165,10 @@ pub struct Springs<'a> {
     pub height: Option<&'a Quantity>,
     /// the stiffnesses in series with the lateral, longitudinal and vertical dampers, when given
     pub series: [Option<&'a Quantity>; 3],
+    /// the bump stop's clearance and stiffness, when given
+    pub bump_stop: [Option<&'a Quantity>; 2],
+    /// the bump stop's progressive table, when given
+    pub bump_stop_table: Option<&'a BumpStopTableSection>,
 }
 
 springs_section!(
@@ -189,6 +207,15 @@ pub struct ForceVelocitySection {
     /// the slope beyond the blow-off
     #[serde(default)]
     pub slope_after: Option<Quantity>,
+}
+
+/// A progressive bump stop: `points = [[penetration, force], …]` beyond the clearance,
+/// penetration > 0, odd-extended, through zero.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BumpStopTableSection {
+    /// `[[penetration, force], …]`
+    pub points: Vec<[Quantity; 2]>,
 }
 
 /// `[vehicle]`: which layout the study describes.
@@ -295,6 +322,47 @@ pub struct ContactSection {
     pub extrapolate: Option<String>,
     #[serde(default)]
     pub creep_coefficients: Option<CreepCoefficientsSection>,
+    /// `[[contact.wheelset]]`: wheelsets with their own contact geometry
+    #[serde(default)]
+    pub wheelset: Vec<WheelsetContactSection>,
+}
+
+/// One `[[contact.wheelset]]` entry: the wheelsets at `positions` (1-based, front to rear)
+/// take these geometry keys instead of `[contact]`'s; every key not given is `[contact]`'s.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WheelsetContactSection {
+    /// the wheelsets' positions, 1-based from the front
+    pub positions: Vec<usize>,
+    /// "cone", "cone-on-arc", "table" or "profiles" (default: `[contact]`'s)
+    #[serde(default)]
+    pub geometry: Option<String>,
+    #[serde(default)]
+    pub conicity: Option<Quantity>,
+    #[serde(default)]
+    pub crown_offset: Option<Quantity>,
+    #[serde(default)]
+    pub geometry_table: Option<String>,
+    #[serde(default)]
+    pub wheel_profile: Option<String>,
+    #[serde(default)]
+    pub rail_profile: Option<String>,
+    #[serde(default)]
+    pub wheel_profile_mirror: Option<bool>,
+    #[serde(default)]
+    pub wheel_profile_z_up: Option<bool>,
+    #[serde(default)]
+    pub rail_profile_mirror: Option<bool>,
+    #[serde(default)]
+    pub rail_profile_z_up: Option<bool>,
+    #[serde(default)]
+    pub rail_inclination: Option<String>,
+    #[serde(default)]
+    pub track_gauge: Option<Quantity>,
+    #[serde(default)]
+    pub gauge_depth: Option<Quantity>,
+    #[serde(default)]
+    pub profile_smoothing: Option<Quantity>,
 }
 
 #[derive(Clone, Debug, Deserialize)]

@@ -6,8 +6,8 @@ use super::schema::{ForceVelocitySection, Quantity, Springs, StudyFile};
 use super::units::Dimension;
 use super::{checked, non_negative, positive, rule, StudyError};
 use crate::model::{
-    CarBodyParams, DamperSeries, ForceVelocity, FrameParams, PrimaryVertical, Secondary,
-    Suspension, VehicleSpec,
+    CarBodyParams, DamperSeries, ForceVelocity, FrameParams, PrimaryVertical, Secondary, StopLaw,
+    StopSpec, StopTable, Suspension, VehicleSpec,
 };
 
 fn opt(
@@ -121,6 +121,66 @@ fn force_velocity(
     }
 }
 
+/// A spring section's bump stop (docs/model.md §13), `prefix` naming it: `bump_stop_clearance`
+/// with either `bump_stop_stiffness` or `bump_stop_force_table`, or neither. With both, the
+/// table gives the stop's shape and the stiffness its size: the table's forces are scaled so
+/// that its first slope is the stiffness (so that the stiffness can be swept, as the yaw
+/// damper's curve is scaled by `secondary.yaw_damping`).
+fn bump_stop(prefix: &str, s: Springs<'_>) -> Result<Option<StopSpec>, StudyError> {
+    use Dimension::*;
+    let key = |k: &str| format!("{prefix}.bump_stop_{k}");
+    let [clearance, stiffness] = s.bump_stop;
+    let clearance = opt(&key("clearance"), clearance, Length, positive)?;
+    let stiffness = opt(&key("stiffness"), stiffness, Stiffness, positive)?;
+    let table = match s.bump_stop_table {
+        None => None,
+        Some(t) => {
+            let mut pts = Vec::with_capacity(t.points.len());
+            for (i, [p, f]) in t.points.iter().enumerate() {
+                let k = format!("{}.points[{i}]", key("force_table"));
+                pts.push((
+                    checked(&k, p, Length, |v| v.is_finite(), "must be finite")?,
+                    checked(&k, f, Force, |v| v.is_finite(), "must be finite")?,
+                ));
+            }
+            let table = StopTable::from_points(&pts)
+                .map_err(|e| rule(&format!("{}.points", key("force_table")), "as given", &e))?;
+            Some(table)
+        }
+    };
+    let law = match (stiffness, table) {
+        (_, Some(t)) => {
+            let t = match stiffness {
+                Some(k) => t.scaled(k / t.initial_stiffness()),
+                None => t,
+            };
+            Some(StopLaw::Table(t))
+        }
+        (Some(k), None) => Some(StopLaw::Linear(k)),
+        (None, None) => None,
+    };
+    match (clearance, law) {
+        (Some(clearance), Some(law)) => Ok(Some(StopSpec { clearance, law })),
+        (None, None) => Ok(None),
+        (Some(_), None) => Err(StudyError::Missing {
+            key: key("stiffness"),
+            why: format!(
+                "{} needs the stop's stiffness (or {})",
+                key("clearance"),
+                key("force_table")
+            ),
+        }),
+        (None, Some(_)) => Err(StudyError::Missing {
+            key: key("clearance"),
+            why: format!(
+                "a bump stop ({} or {}) needs its clearance, the free play each way",
+                key("stiffness"),
+                key("force_table")
+            ),
+        }),
+    }
+}
+
 /// A spring section's vertical stiffness and damping (default 0) and height (default 0).
 fn vertical(prefix: &str, s: Springs<'_>) -> Result<PrimaryVertical, StudyError> {
     use Dimension::*;
@@ -142,6 +202,7 @@ fn vertical(prefix: &str, s: Springs<'_>) -> Result<PrimaryVertical, StudyError>
         .unwrap_or(0.0),
         height: height(&key("height"), s.height)?,
         series: series(prefix, s, None)?,
+        bump_stop: bump_stop(prefix, s)?,
     })
 }
 
@@ -251,6 +312,7 @@ fn secondary(f: &StudyFile) -> Result<Secondary, StudyError> {
         height: v.height,
         series,
         yaw_damper_force_velocity: curve,
+        bump_stop: v.bump_stop,
     })
 }
 

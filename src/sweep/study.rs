@@ -292,25 +292,35 @@ impl SweepStudy {
         self.plan_of(t)
     }
 
-    /// Whether a plan's contact table is the base study's (it is a function of the geometry
-    /// and the table specification only).
+    /// Whether a plan's contact tables are the base study's (they are a function of the
+    /// geometries, the wheelsets' own included, and the table specification only).
     pub fn reuses_table(&self, plan: &Plan) -> bool {
         plan.contact.geometry == self.base.contact.geometry
+            && plan.contact.wheelsets == self.base.contact.wheelsets
             && plan.table_spec() == self.base.table_spec()
     }
 
-    /// The model of a point's plan. When [`Self::reuses_table`], the contact table of a spare
-    /// model from `spares` (or a copy of the base model's) is reused: it is not rebuilt.
+    /// The model of a point's plan. When [`Self::reuses_table`], the contact tables of a spare
+    /// model from `spares` (or copies of the base model's) are reused: they are not rebuilt.
+    /// Otherwise every table is built again, the wheelsets' own too.
     pub fn model(&self, plan: &Plan, spares: &Spares) -> Result<Vehicle, study::ModelError> {
-        let table = if self.reuses_table(plan) {
-            spares.take().map_or_else(
-                || self.base_model.contact.table.clone(),
-                |m| m.contact.table,
-            )
-        } else {
-            ContactTable::build(&plan.contact.geometry, &plan.table_spec())?
-        };
-        plan.model_with(table)
+        if !self.reuses_table(plan) {
+            let table = ContactTable::build(&plan.contact.geometry, &plan.table_spec())?;
+            return plan.model_with(table);
+        }
+        let (table, own) = spares.take().map_or_else(
+            || {
+                (
+                    self.base_model.contact.table.clone(),
+                    self.base_model.wheelset_tables().to_vec(),
+                )
+            },
+            |m| {
+                let own = m.wheelset_tables().to_vec();
+                (m.contact.table, own)
+            },
+        );
+        plan.model_with_tables(table, own)
     }
 }
 

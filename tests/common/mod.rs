@@ -117,6 +117,48 @@ pub fn excursions_across_death<const N: usize>(
     )
 }
 
+/// The sparse variational product $JΦ$ of `model` at `x` equals the dense product of `jac`
+/// (the exact Jacobian, column-major as `Vehicle::jacobian_into` writes it) with a fixed Φ, to
+/// 1e-12 of each entry's largest term, and its f equals `f` bit for bit.
+pub fn assert_variational_is_the_dense_product<const N: usize>(
+    model: &critspeed::model::Vehicle,
+    x: &[f64],
+    speed: f64,
+    jac: &[f64],
+    f: &[f64],
+) {
+    use critspeed::system::ode::VectorField;
+    use nalgebra::{SMatrix, SVector};
+    let xs = SVector::<f64, N>::from_column_slice(x);
+    let phi = SMatrix::<f64, N, N>::from_fn(|r, c| ((r * 7 + c * 3) % 11) as f64 - 5.0);
+    let (fv, jphi) = VectorField::<N>::rhs_variational(model, &xs, speed, &phi);
+    let jm = SMatrix::<f64, N, N>::from_column_slice(jac);
+    let dense = jm * phi;
+    for r in 0..N {
+        assert_eq!(fv[r], f[r], "f row {r}");
+        for c in 0..N {
+            let scale = (0..N).fold(1e-300_f64, |s, k| s.max((jm[(r, k)] * phi[(k, c)]).abs()));
+            assert!(
+                (jphi[(r, c)] - dense[(r, c)]).abs() <= 1e-12 * scale,
+                "JΦ[{r}][{c}]: {} vs {}",
+                jphi[(r, c)],
+                dense[(r, c)]
+            );
+        }
+    }
+}
+
+/// $f(−x) = −f(x)$ for `model` at `x` (whose f is `f`), to 1e-13 of the largest |f|.
+pub fn assert_odd(model: &critspeed::model::Vehicle, x: &[f64], speed: f64, f: &[f64]) {
+    let xm: Vec<f64> = x.iter().map(|a| -a).collect();
+    let mut g = vec![0.0; f.len()];
+    model.rhs_into(&xm, speed, &mut g);
+    let scale = f.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
+    for (i, (a, b)) in f.iter().zip(&g).enumerate() {
+        assert!((a + b).abs() <= 1e-13 * scale, "row {i}");
+    }
+}
+
 /// Every `.svg` under `dir` (recursively), after asserting that no legend box in it hides a
 /// data mark, a reference line's label or a text (`critspeed::plot::legend_clashes`, which
 /// reads the SVG as drawn). Returns the files and how many legend boxes were checked.
