@@ -69,11 +69,30 @@ pub struct BodyMode {
     pub reach: f64,
 }
 
+/// One damper stroke's part of a mode shape: a damper pair on series stiffness (a Maxwell
+/// element, docs/model.md §13) with its stroke $z$ and its end-to-end deflection $Δ = b\,q$.
+/// In the linear motion $(c\,s + k_s)\,z = k_s Δ$ at the eigenvalue $s$, so the share is
+/// $k_s/|c\,s + k_s|$.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DamperMode {
+    /// the stroke's name, e.g. `"yaw damper, frame 1"` ([`crate::model::Maxwell::name`])
+    pub damper: String,
+    /// stroke amplitude |z| relative to the leading wheelset's lateral amplitude |y₁| (m/m)
+    pub stroke_per_y1: f64,
+    /// phase of z against the leading wheelset's y (degrees, −180…180)
+    pub stroke_phase_deg: f64,
+    /// |z|/|Δ|: the share of the end-to-end deflection the damper takes (–); 1 for rigid
+    /// bushes, towards 0 when the bushes take all the motion (0 where Δ vanishes)
+    pub deflection_share: f64,
+}
+
 /// The eigenvector of a crossing pair, body by body (docs/model.md §11, "Reported for a vehicle").
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModeShape {
     /// each body in state order
     pub bodies: Vec<BodyMode>,
+    /// each damper stroke in state order (empty without series stiffness)
+    pub dampers: Vec<DamperMode>,
     /// the body whose lateral displacement (`reach`) is largest
     pub leading_body: String,
     /// "wheelset hunting", "bogie hunting" (a wheelset or frame leads) or "car-body hunting"
@@ -128,9 +147,32 @@ pub fn mode_shape(vehicle: &Vehicle, v: &[(f64, f64)]) -> Option<ModeShape> {
         _ => "bogie hunting",
     };
     let rel = |a: f64, m: f64| if m > 0.0 { a / m } else { 0.0 };
+    // the strokes follow (q, q̇): z_k is state 2n + k, its deflection Δ = b q
+    let n = vehicle.dofs();
+    let dampers = vehicle
+        .maxwell
+        .iter()
+        .enumerate()
+        .map(|(k, mx)| {
+            let z = c(2 * n + k)?;
+            let delta = mx
+                .row
+                .iter()
+                .try_fold(nalgebra::Complex::new(0.0, 0.0), |d, &(j, b)| {
+                    Some(d + c(j)? * b)
+                })?;
+            Some(DamperMode {
+                damper: mx.name.clone(),
+                stroke_per_y1: rel(z.norm(), reference.norm()),
+                stroke_phase_deg: phase(z),
+                deflection_share: rel(z.norm(), delta.norm()),
+            })
+        })
+        .collect::<Option<_>>()?;
     Some(ModeShape {
         leading_body: lead.0.clone(),
         label,
+        dampers,
         bodies: raw
             .iter()
             .map(|(name, y, psi, reach, _)| BodyMode {

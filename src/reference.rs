@@ -227,6 +227,7 @@ pub const REFERENCE_SECONDARY: crate::model::Secondary = crate::model::Secondary
     vertical_half_spacing: 0.68,
     height: 0.6584,
     series: crate::model::DamperSeries::RIGID,
+    curves: crate::model::DamperCurves::LINEAR,
     yaw_damper_force_velocity: None,
     bump_stop: None,
 };

@@ -16,8 +16,8 @@ use critspeed::reference::{
     SEED_SUSPENSION, SEED_WHEELSET,
 };
 use critspeed::stability::{critical_speeds, LinearOptions, LinearSystem};
-use critspeed::system::ode::{OdeOptions, Tolerances, VectorField};
-use nalgebra::{SMatrix, SVector};
+use critspeed::system::ode::{OdeOptions, Tolerances};
+use nalgebra::SVector;
 
 /// The seed wheelset on a 0.15 cone with a soft lateral primary (as tests/vehicle.rs).
 fn hunting_wheelset(law: CreepLaw) -> critspeed::model::Wheelset {
@@ -162,23 +162,7 @@ fn the_car_with_stops_is_odd_and_its_jacobian_is_exact() {
     let mut f2 = vec![0.0; n];
     v.rhs_into(&x, speed, &mut f2);
     assert_eq!(f, f2);
-    let mut worst = 0.0_f64;
-    for c in 0..n {
-        let h = 1e-8;
-        let (mut xp, mut xm) = (x.clone(), x.clone());
-        xp[c] += h;
-        xm[c] -= h;
-        let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
-        v.rhs_into(&xp, speed, &mut fp);
-        v.rhs_into(&xm, speed, &mut fm);
-        for r in 0..n {
-            let fd = (fp[r] - fm[r]) / (2.0 * h);
-            let exact = jac[c * n + r];
-            let err = (fd - exact).abs() / exact.abs().max(1.0);
-            worst = worst.max(err);
-            assert!(err <= 1e-5, "J[{r}][{c}]: {exact} vs difference {fd}");
-        }
-    }
+    let worst = common::assert_jacobian_is_central_differences(&v, &x, speed, &jac, (1e-8, 1e-5));
     eprintln!("Jacobian vs central differences: worst relative {worst:.1e}");
     // the stops act: the Jacobian differs from the one without them
     let plain = build(true, false, CreepLaw::Shen { friction: 0.3 });
@@ -188,24 +172,6 @@ fn the_car_with_stops_is_odd_and_its_jacobian_is_exact() {
     assert!(changed >= 12, "{changed} entries changed by the stops");
     // J Φ from the sparse lower block, and J ξ
     common::assert_variational_is_the_dense_product::<28>(&v, &x, speed, &jac, &f);
-    let xs = SVector::<f64, 28>::from_column_slice(&x);
-    let jm = SMatrix::<f64, 28, 28>::from_column_slice(&jac);
-    let xi = SVector::<f64, 28>::from_fn(|r, _| ((r * 7 + 9) % 11) as f64 - 5.0);
-    let (ft, jxi) = VectorField::<28>::rhs_tangent(&v, &xs, speed, &xi);
-    let want = jm * xi;
-    for r in 0..n {
-        assert!(
-            (ft[r] - f[r]).abs() <= 1e-12 * f[r].abs().max(1.0),
-            "f row {r}"
-        );
-        let scale = (0..n).fold(1e-300_f64, |s, k| s.max((jm[(r, k)] * xi[k]).abs()));
-        assert!(
-            (jxi[r] - want[r]).abs() <= 1e-10 * scale,
-            "Jξ[{r}]: {} vs {}",
-            jxi[r],
-            want[r]
-        );
-    }
     common::assert_odd(&v, &x, speed, &f);
     // the secondary stops' deflection is the secondary lateral spring's: frame to car body
     // with the lever arms (x_b ψ_c of the car body, its secondary height under roll)
@@ -320,31 +286,13 @@ fn a_simulation_lands_on_the_stops_switching_surfaces() {
     assert!(peak <= 0.008 + 1e-9, "the frame went out to {peak} m");
 }
 
-/// studies/dtu-cooperrider-bogie.toml with `lines` added to `[section]`, its table named by
-/// absolute path, written to `dir`.
-fn dtu_bogie_with(dir: &std::path::Path, section: &str, lines: &str) -> std::path::PathBuf {
-    let root = common::root();
-    let text =
-        std::fs::read_to_string(root.join("studies/dtu-cooperrider-bogie.toml")).expect("study");
-    let table = root.join("studies/tables/dtu-rsgeo-1o40.csv");
-    let text = text
-        .replace(
-            "\"tables/dtu-rsgeo-1o40.csv\"",
-            &format!("{:?}", table.to_str().expect("utf-8")),
-        )
-        .replace(&format!("[{section}]"), &format!("[{section}]\n{lines}"));
-    let path = dir.join("bogie.toml");
-    std::fs::write(&path, text).expect("write");
-    path
-}
-
 /// (2, 5) Through the CLI: the keys reach the model (V_L unchanged, the note in the JSON), and
 /// bad values exit 2 naming the key.
 #[test]
 fn the_keys_reach_the_model_and_bad_values_are_refused() {
     let dir = common::scratch("bump-stop-keys");
     let run = |section: &str, lines: &str| {
-        let study = dtu_bogie_with(&dir, section, lines);
+        let study = common::dtu_bogie_with(&dir, section, lines);
         common::critspeed(&["linear", study.to_str().expect("utf-8"), "--json"], &dir)
     };
     let speed = |out: &std::process::Output| {
@@ -565,7 +513,7 @@ fn a_stop_cycle_of_the_dtu_bogie_is_the_attractor_of_a_long_simulation() {
     use critspeed::bifurcation::analyse;
     let dir = common::scratch("bump-stop-cycle");
     let diagram = |lines: &str| {
-        let path = dtu_bogie_with(&dir, "secondary", lines);
+        let path = common::dtu_bogie_with(&dir, "secondary", lines);
         let plan = critspeed::study::load(&path).expect("study");
         let model = plan.model().expect("model");
         let report = analyse(&plan.name, &model, &plan.bifurcation_options()).expect("analysis");

@@ -1,7 +1,8 @@
 //! Dampers on series stiffness (Maxwell elements, docs/model.md §13) against closed forms: the
 //! characteristic polynomial of a wheelset whose yaw is held only by a Maxwell pair, written by
 //! hand; the rigid damper as the limit k_s → ∞ with an error like 1/k_s; the Jacobian against
-//! differences and the variational product; the vector field's symmetry f(−x) = −f(x).
+//! differences and the variational product; the vector field's symmetry f(−x) = −f(x); the
+//! mode shape's strokes against the stroke equation's closed form.
 
 use critspeed::contact::creep::CreepLaw;
 use critspeed::model::{
@@ -232,23 +233,7 @@ fn the_car_with_strokes_has_a_consistent_jacobian_and_is_odd() {
     let speed = 55.0;
     let (mut f, mut jac) = (vec![0.0; n], vec![0.0; n * n]);
     v.rhs_jacobian_into(&x, speed, &mut f, &mut jac);
-    for c in 0..n {
-        let h = 1e-7;
-        let (mut xp, mut xm) = (x.clone(), x.clone());
-        xp[c] += h;
-        xm[c] -= h;
-        let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
-        v.rhs_into(&xp, speed, &mut fp);
-        v.rhs_into(&xm, speed, &mut fm);
-        for r in 0..n {
-            let fd = (fp[r] - fm[r]) / (2.0 * h);
-            let exact = jac[c * n + r];
-            assert!(
-                (fd - exact).abs() <= 1e-5 * exact.abs().max(1.0),
-                "J[{r}][{c}]: {exact} vs difference {fd}"
-            );
-        }
-    }
+    common::assert_jacobian_is_central_differences(&v, &x, speed, &jac, (1e-7, 1e-5));
     common::assert_variational_is_the_dense_product::<32>(&v, &x, speed, &jac, &f);
     common::assert_odd(&v, &x, speed, &f);
 }
@@ -290,30 +275,13 @@ fn too_many_strokes_are_refused_by_name() {
 
 mod common;
 
-/// studies/dtu-cooperrider-bogie.toml with `lines` added to its `[secondary]`, its table
-/// named by absolute path, written to `dir`.
-fn dtu_bogie_with(dir: &std::path::Path, lines: &str) -> std::path::PathBuf {
-    let root = common::root();
-    let text =
-        std::fs::read_to_string(root.join("studies/dtu-cooperrider-bogie.toml")).expect("study");
-    let table = root.join("studies/tables/dtu-rsgeo-1o40.csv");
-    let text = text
-        .replace(
-            "\"tables/dtu-rsgeo-1o40.csv\"",
-            &format!("{:?}", table.to_str().expect("utf-8")),
-        )
-        .replace("[secondary]", &format!("[secondary]\n{lines}"));
-    let path = dir.join("bogie.toml");
-    std::fs::write(&path, text).expect("write");
-    path
-}
-
 /// The DTU bogie with its yaw dampers on 10 MN/m bushes and a relief valve at 3 kN (20 kN s/m
 /// beyond), loaded from a study written to a scratch folder `name`: 13 states.
 fn blow_off_bogie(name: &str) -> (critspeed::study::Plan, Vehicle) {
     let dir = common::scratch(name);
-    let path = dtu_bogie_with(
+    let path = common::dtu_bogie_with(
         &dir,
+        "secondary",
         "yaw_damper_series_stiffness = \"10 MN/m\"\n\
          yaw_damper_force_velocity = { blow_off_force = \"3 kN\", slope_after = \"20 kN s/m\" }",
     );
@@ -335,6 +303,14 @@ fn kalker_speed(out: &std::process::Output) -> (f64, usize) {
     (speed, states as usize)
 }
 
+/// How many strokes the first Kalker crossing's mode shape lists (`None`: no mode shape).
+fn mode_dampers(out: &std::process::Output) -> Option<usize> {
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    json["critical_speeds"][0]["mode_shape"]["dampers"]
+        .as_array()
+        .map(Vec::len)
+}
+
 /// Through the study file: `secondary.yaw_damper_series_stiffness` makes the DTU bogie's yaw
 /// dampers Maxwell elements (13 states); nearly rigid bushes (1e10 N/m) give the rigid
 /// damper's V_L to 1e-4, 5 MN/m moves it by more than 1 %; zero and negative values exit 2 naming the key.
@@ -342,17 +318,27 @@ fn kalker_speed(out: &std::process::Output) -> (f64, usize) {
 fn the_study_key_reaches_the_model_and_bad_values_are_refused() {
     let dir = common::scratch("maxwell-study");
     let run = |lines: &str| {
-        let study = dtu_bogie_with(&dir, lines);
+        let study = common::dtu_bogie_with(&dir, "secondary", lines);
         common::critspeed(&["linear", study.to_str().expect("utf-8"), "--json"], &dir)
     };
     let rigid = run("");
     assert_eq!(rigid.status.code(), Some(0), "{rigid:?}");
     let (v0, n0) = kalker_speed(&rigid);
     assert_eq!(n0, 12);
+    assert_eq!(
+        mode_dampers(&rigid),
+        Some(0),
+        "rigid dampers report no stroke"
+    );
     let stiff = run("yaw_damper_series_stiffness = \"1e10 N/m\"");
     assert_eq!(stiff.status.code(), Some(0), "{stiff:?}");
     let (v1, n1) = kalker_speed(&stiff);
     assert_eq!(n1, 13);
+    assert_eq!(
+        mode_dampers(&stiff),
+        Some(1),
+        "one stroke for the yaw-damper pair"
+    );
     assert!((v1 - v0).abs() <= 1e-4 * v0, "{v1} vs rigid {v0}");
     let soft = run("yaw_damper_series_stiffness = \"5 MN/m\"");
     let (v2, _) = kalker_speed(&soft);
@@ -477,4 +463,101 @@ fn blow_off_dampers_hunt_below_the_continued_branch_and_the_report_says_so() {
         "V_NL {v_nl} m/s by the search, lowest stable continued cycle {continued} m/s; \
          after 150 s: {below:.3e} m at {lo} m/s, {above:.3e} m at {hi} m/s"
     );
+}
+
+/// The passenger car (studies/passenger-car-s1002.toml: yaw dampers of 300 kN s/m per side, the
+/// slope at zero of their curve, on 10 MN/m bushes): in the linear motion at an eigenvalue s
+/// the stroke obeys (c s + k_s) z = k_s Δ, so on the imaginary axis (s = iω, ω from the
+/// crossing's frequency) the share of the deflection the damper takes is
+/// k_s/√(k_s² + c²ω²), whatever the rest of the vehicle does. Every crossing's mode shape in
+/// `linear --json` (both creep laws) lists both frames' yaw-damper strokes with that share,
+/// and the console prints them.
+#[test]
+fn the_mode_shape_gives_each_stroke_the_closed_form_share_of_its_deflection() {
+    let (ks, c) = (10e6, 300e3);
+    let dir = common::scratch("maxwell-mode");
+    let study = common::root().join("studies/passenger-car-s1002.toml");
+    let study = study.to_str().expect("utf-8");
+    let out = common::critspeed(&["linear", study, "--json"], &dir);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let mut checked = 0;
+    for key in ["critical_speeds", "creep_law_hopf_speeds"] {
+        for crossing in json[key].as_array().expect("crossings") {
+            let omega = 2.0 * std::f64::consts::PI * crossing["frequency_hz"].as_f64().expect("f");
+            let want = ks / (ks * ks + c * c * omega * omega).sqrt();
+            let dampers = crossing["mode_shape"]["dampers"]
+                .as_array()
+                .expect("dampers");
+            let names: Vec<&str> = dampers
+                .iter()
+                .filter_map(|d| d["damper"].as_str())
+                .collect();
+            assert_eq!(names, ["yaw damper, frame 1", "yaw damper, frame 2"]);
+            for d in dampers {
+                let share = d["deflection_share"].as_f64().expect("share");
+                let err = (share - want).abs() / want;
+                eprintln!(
+                    "{key} {:.3} m/s, {:.4} Hz, {}: share {share:.9}, k_s/|c s + k_s| {want:.9} \
+                     (rel. {err:.1e}), |z|/|y1| {:.4e}, phase {:.1} deg",
+                    crossing["speed_m_s"].as_f64().expect("speed"),
+                    omega / (2.0 * std::f64::consts::PI),
+                    d["damper"],
+                    d["stroke_per_y1"].as_f64().expect("stroke"),
+                    d["stroke_phase_deg"].as_f64().expect("phase"),
+                );
+                assert!(err < 1e-9, "{d}: share {share} vs {want}");
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 4, "{checked} strokes checked");
+    let text = common::critspeed(&["linear", study], &dir);
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains("strokes |z|/|y1|, phase, |z|/|deflection|: yaw damper, frame 1 "),
+        "{text}"
+    );
+}
+
+/// The share of a stroke at the bogie's crossing (critspeed::analysis::mode_shape), with the
+/// crossing's frequency (Hz).
+fn bogie_share(ks: f64) -> (f64, f64) {
+    use critspeed::stability::{critical_speeds, LinearOptions, LinearSystem};
+    let v = bogie_with_yaw_dampers(Some(ks));
+    let sys = LinearSystem::<13>::at_centre(&v);
+    let opts = LinearOptions {
+        speed_range: (1.0, 300.0),
+        ..LinearOptions::default()
+    };
+    let found = critical_speeds(&sys, v.creep_law(), &opts).expect("search runs");
+    let c = found.critical().expect("an onset");
+    let pair = c.eigenpair(&sys).expect("eigenpair");
+    let m = critspeed::analysis::mode_shape(&v, &pair.vector).expect("mode shape");
+    assert_eq!(m.dampers.len(), 1);
+    assert_eq!(m.dampers[0].damper, "yaw damper, frame");
+    (m.dampers[0].deflection_share, c.frequency_hz)
+}
+
+/// k_s → ∞: the damper takes the whole deflection. z/Δ = 1/(1 + c s/k_s) tends to 1 like
+/// 1/k_s, its modulus (the reported share, s = iω) like 1/k_s²: 1 − share falls a hundredfold
+/// per decade of k_s on the bogie's yaw dampers.
+#[test]
+fn stiff_bushes_leave_the_damper_the_whole_deflection() {
+    let gaps: Vec<f64> = [1e8, 1e9, 1e10]
+        .iter()
+        .map(|&ks| {
+            let (share, f) = bogie_share(ks);
+            eprintln!("k_s {ks:.0e} N/m: share {share:.12} at {f:.4} Hz");
+            1.0 - share
+        })
+        .collect();
+    assert!(gaps.iter().all(|g| *g > 0.0), "{gaps:?}");
+    for pair in gaps.windows(2) {
+        let ratio = pair[0] / pair[1];
+        assert!(
+            (70.0..140.0).contains(&ratio),
+            "1 − share {gaps:?}, ratio {ratio}"
+        );
+    }
 }

@@ -33,6 +33,8 @@ mod dtu_wheel;
 mod fold_curve_section;
 #[path = "validation/profiles.rs"]
 mod profiles_section;
+#[path = "validation_sections/suspension.rs"]
+mod suspension_section;
 #[path = "validation_sections/table.rs"]
 mod table_sections;
 
@@ -256,7 +258,8 @@ fn report() -> String {
     curve_section::section(&mut s);
     fold_curve_section::section(&mut s);
     auto07p_bogie_section::section(&mut s);
-    s.push_str("## 12. Not yet compared\n\nA published wheelset or bogie stability result with its linear and nonlinear critical speeds: none was found for a single wheelset (section 6). Cooperrider's bogie, as used by Kaas-Petersen and True, is within critspeed's models (bogies and whole cars, docs/model.md §11), but no published nonlinear critical speed of it is compared: the DTU DYTSI repository, the source of `studies/dtu-cooperrider-bogie.toml`'s parameters, holds none (see the study's header comment). Section 11 compares that study only against AUTO-07p on the same equations.\n");
+    suspension_section::section(&mut s);
+    s.push_str("## 13. Not yet compared\n\nA published wheelset or bogie stability result with its linear and nonlinear critical speeds: none was found for a single wheelset (section 6). Cooperrider's bogie, as used by Kaas-Petersen and True, is within critspeed's models (bogies and whole cars, docs/model.md §11), but no published nonlinear critical speed of it is compared: the DTU DYTSI repository, the source of `studies/dtu-cooperrider-bogie.toml`'s parameters, holds none (see the study's header comment). Section 11 compares that study only against AUTO-07p on the same equations.\n");
     s
 }
 

@@ -42,10 +42,24 @@ fn crossings(
             let _ = write!(s, "  l1 {:+.3e} 1/m2 {}", l.l1, l.kind().name());
         }
         // vehicles: the mode and the body that leads it
-        if let Some(Some(m)) = modes.and_then(|m| m.get(k)) {
+        let mode = modes.and_then(|m| m.get(k)).and_then(Option::as_ref);
+        if let Some(m) = mode {
             let _ = write!(s, "  {} ({} leads)", m.label, m.leading_body);
         }
         s.push('\n');
+        // dampers on series stiffness: each stroke against y1 and its share of the deflection
+        if let Some(m) = mode.filter(|m| !m.dampers.is_empty()) {
+            s.push_str("    strokes |z|/|y1|, phase, |z|/|deflection|:");
+            for (i, d) in m.dampers.iter().enumerate() {
+                let sep = if i == 0 { " " } else { "; " };
+                let _ = write!(
+                    s,
+                    "{sep}{} {:.4} m/m {:+.1} deg {:.4}",
+                    d.damper, d.stroke_per_y1, d.stroke_phase_deg, d.deflection_share
+                );
+            }
+            s.push('\n');
+        }
     }
     for v in &c.divergence_speeds_m_s {
         let _ = writeln!(

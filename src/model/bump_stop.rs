@@ -8,8 +8,20 @@
 //! functions $Δ − δ_b − p_i$ and $−Δ − δ_b − p_i$ ($p_0 = 0$, then each knee) change sign
 //! exactly where the law changes its piece, as [`BumpStop::force`] compares the same numbers.
 
+use super::table::{knots, Knots, Wording, MAX_TABLE_POINTS};
+
 /// The most points a progressive table holds (the struct stays `Copy`).
-pub const MAX_STOP_POINTS: usize = 16;
+pub const MAX_STOP_POINTS: usize = MAX_TABLE_POINTS;
+
+/// The rules of [`StopTable::from_points`] in a stop's words.
+const WORDING: Wording = Wording {
+    finite: "every penetration and force must be finite",
+    through_zero: "the table must pass through zero: at penetration 0 the force is 0",
+    odd: "give penetrations beyond the clearance only (>= 0): the stop is odd",
+    positive: "a penetration > 0",
+    at: "a penetration of ",
+    unit: "m",
+};
 
 /// The force of a stop against its penetration $p ≥ 0$ beyond the clearance.
 // (the table inline, not boxed: the suspensions' parameter structs stay `Copy`, as with
@@ -41,50 +53,11 @@ impl StopTable {
     /// $p > 0$, no negative penetration, distinct penetrations, the force strictly increasing
     /// with the penetration (monotone) and through zero.
     pub fn from_points(points: &[(f64, f64)]) -> Result<Self, String> {
-        if points
-            .iter()
-            .any(|(p, g)| !(p.is_finite() && g.is_finite()))
-        {
-            return Err("every penetration and force must be finite".into());
-        }
-        if points.iter().any(|&(p, g)| p == 0.0 && g != 0.0) {
-            return Err("the table must pass through zero: at penetration 0 the force is 0".into());
-        }
-        if points.iter().any(|&(p, _)| p < 0.0) {
-            return Err(
-                "give penetrations beyond the clearance only (>= 0): the stop is odd".into(),
-            );
-        }
-        let mut pts: Vec<(f64, f64)> = points.iter().copied().filter(|p| p.0 > 0.0).collect();
-        if pts.is_empty() {
-            return Err("needs at least one point with a penetration > 0".into());
-        }
-        if pts.len() > MAX_STOP_POINTS {
-            return Err(format!(
-                "at most {MAX_STOP_POINTS} points with a penetration > 0 ({} given)",
-                pts.len()
-            ));
-        }
-        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut penetration = [0.0; MAX_STOP_POINTS + 1];
-        let mut force = [0.0; MAX_STOP_POINTS + 1];
-        for (k, &(p, g)) in pts.iter().enumerate() {
-            let (p0, g0) = (penetration[k], force[k]);
-            if p == p0 {
-                return Err(format!("two points at a penetration of {p} m"));
-            }
-            if g <= g0 {
-                return Err(format!(
-                    "must be monotone: the force {g} N at {p} m is not above {g0} N at {p0} m"
-                ));
-            }
-            penetration[k + 1] = p;
-            force[k + 1] = g;
-        }
+        let Knots { x, force, len } = knots(points, &WORDING)?;
         Ok(Self {
-            penetration,
+            penetration: x,
             force,
-            len: pts.len() + 1,
+            len,
         })
     }
 

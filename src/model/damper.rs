@@ -12,9 +12,21 @@
 //! the state and the damper's stroke rate is $\dot z = g^{-1}(F)$: the characteristic is
 //! stored as knees in force with the inverse slopes, so that the field needs no solve.
 
+use super::table::{knots, Knots, Wording, MAX_TABLE_POINTS};
+
 /// The most points a characteristic holds (beside the origin): the suspensions' parameter
 /// structs stay `Copy` with the curve inside.
-pub const MAX_POINTS: usize = 16;
+pub const MAX_POINTS: usize = MAX_TABLE_POINTS;
+
+/// The rules of [`ForceVelocity::from_points`] in a damper's words.
+const WORDING: Wording = Wording {
+    finite: "every velocity and force must be finite",
+    through_zero: "the curve must pass through zero: at v = 0 the force is 0",
+    odd: "give the points for v > 0 only: the curve is odd, F(-v) = -F(v)",
+    positive: "v > 0",
+    at: "v = ",
+    unit: "m/s",
+};
 
 /// $F = g(v)$ for $v ≥ 0$ as knees, odd-extended: $g(−v) = −g(v)$.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -36,50 +48,17 @@ impl ForceVelocity {
     /// velocities distinct, the force strictly increasing with the velocity (a damper
     /// dissipates: the curve is monotone), through zero.
     pub fn from_points(points: &[(f64, f64)]) -> Result<Self, String> {
-        if points
-            .iter()
-            .any(|(v, f)| !(v.is_finite() && f.is_finite()))
-        {
-            return Err("every velocity and force must be finite".into());
-        }
-        if points.iter().any(|&(v, f)| v == 0.0 && f != 0.0) {
-            return Err("the curve must pass through zero: at v = 0 the force is 0".into());
-        }
-        if points.iter().any(|&(v, _)| v < 0.0) {
-            return Err("give the points for v > 0 only: the curve is odd, F(-v) = -F(v)".into());
-        }
-        let mut pts: Vec<(f64, f64)> = points.iter().copied().filter(|p| p.0 > 0.0).collect();
-        if pts.is_empty() {
-            return Err("needs at least one point with v > 0".into());
-        }
-        if pts.len() > MAX_POINTS {
-            return Err(format!(
-                "at most {MAX_POINTS} points with v > 0 ({} given)",
-                pts.len()
-            ));
-        }
-        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut velocity = [0.0; MAX_POINTS + 1];
-        let mut force = [0.0; MAX_POINTS + 1];
-        for (k, &(v, f)) in pts.iter().enumerate() {
-            let (v0, f0) = (velocity[k], force[k]);
-            if v == v0 {
-                return Err(format!("two points at v = {v} m/s"));
-            }
-            if f <= f0 {
-                return Err(format!(
-                    "must be monotone: the force {f} N at {v} m/s is not above {f0} N at {v0} m/s"
-                ));
-            }
-            velocity[k + 1] = v;
-            force[k + 1] = f;
-        }
-        let k = pts.len();
+        let Knots {
+            x: velocity,
+            force,
+            len,
+        } = knots(points, &WORDING)?;
+        let k = len - 1;
         let tail = (force[k] - force[k - 1]) / (velocity[k] - velocity[k - 1]);
         Ok(Self {
             velocity,
             force,
-            len: k + 1,
+            len,
             tail,
         })
     }

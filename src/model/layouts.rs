@@ -17,6 +17,8 @@
 //!   secondary above the frame's and the car body's centres.
 //! * **secondary vertical** (when given): the same ends at $±d_v$, stiffness and damping along z.
 //! * **yaw damper** (when given): the same ends at $±d_{yd}$, damping along x.
+//! * any damper on series stiffness may follow a force–velocity curve ([`DamperCurves`], the
+//!   yaw damper's [`Secondary::yaw_damper_force_velocity`]) instead of its linear rate.
 //! * **bump stops** (when given, docs/model.md §13): one per wheelset on the primary's lateral
 //!   deflection and one per frame on the secondary's, free play $±δ_b$ then a stiff spring.
 //!
@@ -50,6 +52,28 @@ impl DamperSeries {
     };
 }
 
+/// The force–velocity curves of a suspension's lateral, longitudinal and vertical dampers
+/// (docs/model.md §13), each on series stiffness only; `None`: linear, the section's damping.
+/// A curve's slope at zero is that damping.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DamperCurves {
+    /// the lateral damper's
+    pub lateral: Option<ForceVelocity>,
+    /// the longitudinal damper's
+    pub longitudinal: Option<ForceVelocity>,
+    /// the vertical damper's
+    pub vertical: Option<ForceVelocity>,
+}
+
+impl DamperCurves {
+    /// Every damper linear.
+    pub const LINEAR: Self = Self {
+        lateral: None,
+        longitudinal: None,
+        vertical: None,
+    };
+}
+
 /// The primary's values beyond docs/model.md §7 (per side), SI.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PrimaryVertical {
@@ -61,6 +85,8 @@ pub struct PrimaryVertical {
     pub height: f64,
     /// the primary dampers' series stiffnesses (`yaw` unused)
     pub series: DamperSeries,
+    /// the primary dampers' force–velocity curves (on series stiffness only)
+    pub curves: DamperCurves,
     /// a lateral bump stop per wheelset, wheelset to frame (to the track for the wheelset
     /// layout), docs/model.md §13; `None`: none
     pub bump_stop: Option<StopSpec>,
@@ -106,6 +132,9 @@ pub struct Secondary {
     pub height: f64,
     /// the secondary dampers' series stiffnesses
     pub series: DamperSeries,
+    /// the secondary lateral, longitudinal and vertical dampers' force–velocity curves (on
+    /// series stiffness only)
+    pub curves: DamperCurves,
     /// the yaw dampers' force–velocity characteristic (on series stiffness only);
     /// `yaw_damping` is then its slope at zero
     pub yaw_damper_force_velocity: Option<ForceVelocity>,
@@ -217,7 +246,11 @@ fn primary(
                 pv.series.lateral,
                 pv.series.vertical,
             ],
-            force_velocity: [None; 3],
+            force_velocity: [
+                pv.curves.longitudinal,
+                pv.curves.lateral,
+                pv.curves.vertical,
+            ],
             bump_stop: None,
         });
     }
@@ -271,7 +304,7 @@ fn secondary(
         [sec.longitudinal_stiffness, sec.lateral_stiffness, 0.0],
         [sec.longitudinal_damping, sec.lateral_damping, 0.0],
         [series.longitudinal, series.lateral, None],
-        [None; 3],
+        [sec.curves.longitudinal, sec.curves.lateral, None],
     );
     add(
         "secondary vertical",
@@ -279,7 +312,7 @@ fn secondary(
         [0.0, 0.0, sec.vertical_stiffness],
         [0.0, 0.0, sec.vertical_damping],
         [None, None, series.vertical],
-        [None; 3],
+        [None, None, sec.curves.vertical],
     );
     add(
         "yaw damper",

@@ -12,6 +12,7 @@
 pub mod bump_stop;
 pub mod damper;
 pub mod layouts;
+mod table;
 #[cfg(test)]
 mod tests;
 pub mod vehicle;
@@ -20,7 +21,7 @@ mod wheelsets;
 pub use bump_stop::{BumpStop, StopLaw, StopSpec, StopTable};
 pub use damper::ForceVelocity;
 pub use layouts::{
-    CarBodyParams, DamperSeries, FrameParams, PrimaryVertical, Secondary, VehicleSpec,
+    CarBodyParams, DamperCurves, DamperSeries, FrameParams, PrimaryVertical, Secondary, VehicleSpec,
 };
 pub use vehicle::{Attachment, Body, BodyKind, Element, Layout, Maxwell, Vehicle};
 

@@ -49,7 +49,24 @@ fn mode_json(m: &crate::analysis::ModeShape) -> Value {
             })
         })
         .collect();
-    json!({ "label": m.label, "leading_body": m.leading_body, "bodies": bodies })
+    let dampers: Vec<Value> = m
+        .dampers
+        .iter()
+        .map(|d| {
+            json!({
+                "damper": d.damper,
+                "stroke_per_y1": d.stroke_per_y1,
+                "stroke_phase_deg": d.stroke_phase_deg,
+                "deflection_share": d.deflection_share,
+            })
+        })
+        .collect();
+    json!({
+        "label": m.label,
+        "leading_body": m.leading_body,
+        "bodies": bodies,
+        "dampers": dampers,
+    })
 }
 
 /// The first Lyapunov coefficient's fields of a crossing (`null` where it was not computed):

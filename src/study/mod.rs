@@ -434,6 +434,21 @@ fn bifurcation_plan(
     if let Some(r) = b.rtol {
         o.rtol = number("bifurcation.rtol", r)?;
     }
+    if let Some(f) = b.floquet_rtol {
+        let f = number("bifurcation.floquet_rtol", f)?;
+        if !(f >= o.rtol && f <= 1e-4) {
+            return Err(rule(
+                "bifurcation.floquet_rtol",
+                f,
+                &format!(
+                    "must lie in [rtol, 1e-4] = [{:e}, 1e-4] (the monodromy matrix is solved at \
+                     least as tightly as Newton needs, never tighter than the cycles)",
+                    o.rtol
+                ),
+            ));
+        }
+        o.floquet_rtol = Some(f);
+    }
     if let Some(d) = b.ds_max {
         o.ds_max = number("bifurcation.ds_max", d)?;
     }

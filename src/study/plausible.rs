@@ -349,6 +349,8 @@ const OTHERS: &[Range] = &[
         "hunting amplitudes up to flange contact"),
     row("bifurcation.rtol", Dimensionless, (1e-12, 1e-6), Bounds::closed(1e-13, 1e-4),
         "tolerances that locate folds"),
+    row("bifurcation.floquet_rtol", Dimensionless, (1e-10, 1e-6), Bounds::closed(1e-13, 1e-4),
+        "Floquet multipliers to 4 digits or better"),
     row("bifurcation.ds_max", Dimensionless, (0.01, 5.0), Bounds::left_open(0.0, 10.0),
         "steps that follow a branch"),
     row("bifurcation.max_points", Dimensionless, (10.0, 1e4), Bounds::closed(2.0, 1e5),

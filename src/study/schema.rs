@@ -109,6 +109,15 @@ macro_rules! springs_section {
             /// stiffness in series with the vertical damper
             #[serde(default)]
             pub vertical_damper_series_stiffness: Option<Quantity>,
+            /// the lateral damper's force–velocity characteristic (on series stiffness)
+            #[serde(default)]
+            pub lateral_damper_force_velocity: Option<ForceVelocitySection>,
+            /// the longitudinal damper's force–velocity characteristic (on series stiffness)
+            #[serde(default)]
+            pub longitudinal_damper_force_velocity: Option<ForceVelocitySection>,
+            /// the vertical damper's force–velocity characteristic (on series stiffness)
+            #[serde(default)]
+            pub vertical_damper_force_velocity: Option<ForceVelocitySection>,
             /// a lateral bump stop's free play each way (docs/model.md §13)
             #[serde(default)]
             pub bump_stop_clearance: Option<Quantity>,
@@ -139,6 +148,11 @@ macro_rules! springs_section {
                         self.longitudinal_damper_series_stiffness.as_ref(),
                         self.vertical_damper_series_stiffness.as_ref(),
                     ],
+                    force_velocity: [
+                        self.lateral_damper_force_velocity.as_ref(),
+                        self.longitudinal_damper_force_velocity.as_ref(),
+                        self.vertical_damper_force_velocity.as_ref(),
+                    ],
                     bump_stop: [
                         self.bump_stop_clearance.as_ref(),
                         self.bump_stop_stiffness.as_ref(),
@@ -165,6 +179,8 @@ pub struct Springs<'a> {
     pub height: Option<&'a Quantity>,
     /// the stiffnesses in series with the lateral, longitudinal and vertical dampers, when given
     pub series: [Option<&'a Quantity>; 3],
+    /// the force–velocity curves of the lateral, longitudinal and vertical dampers, when given
+    pub force_velocity: [Option<&'a ForceVelocitySection>; 3],
     /// the bump stop's clearance and stiffness, when given
     pub bump_stop: [Option<&'a Quantity>; 2],
     /// the bump stop's progressive table, when given
@@ -200,7 +216,7 @@ springs_section!(
 pub struct ForceVelocitySection {
     /// `[[velocity, force], …]` for v > 0, odd-extended through zero
     #[serde(default)]
-    pub points: Option<Vec<[Quantity; 2]>>,
+    pub points: Option<PointsTable>,
     /// the force at which the relief valve opens
     #[serde(default)]
     pub blow_off_force: Option<Quantity>,
@@ -215,8 +231,12 @@ pub struct ForceVelocitySection {
 #[serde(deny_unknown_fields)]
 pub struct BumpStopTableSection {
     /// `[[penetration, force], …]`
-    pub points: Vec<[Quantity; 2]>,
+    pub points: PointsTable,
 }
+
+/// A piecewise-linear odd table as written, `[[x, force], …]` for x > 0 (the origin implied):
+/// a damper's force–velocity curve, a bump stop's force against penetration.
+pub type PointsTable = Vec<[Quantity; 2]>;
 
 /// `[vehicle]`: which layout the study describes.
 #[derive(Clone, Debug, Deserialize)]
@@ -401,6 +421,9 @@ pub struct BifurcationSection {
     pub max_amplitude: Option<Quantity>,
     #[serde(default)]
     pub rtol: Option<f64>,
+    /// relative tolerance of the monodromy matrix (default: rtol)
+    #[serde(default)]
+    pub floquet_rtol: Option<f64>,
     #[serde(default)]
     pub ds_max: Option<f64>,
     #[serde(default)]

@@ -2,12 +2,12 @@
 //! and `[secondary]` share their keys and their reading): the layout of docs/model.md §11, in SI,
 //! checked.
 
-use super::schema::{ForceVelocitySection, Quantity, Springs, StudyFile};
+use super::schema::{ForceVelocitySection, PointsTable, Quantity, Springs, StudyFile};
 use super::units::Dimension;
 use super::{checked, non_negative, positive, rule, StudyError};
 use crate::model::{
-    CarBodyParams, DamperSeries, ForceVelocity, FrameParams, PrimaryVertical, Secondary, StopLaw,
-    StopSpec, StopTable, Suspension, VehicleSpec,
+    CarBodyParams, DamperCurves, DamperSeries, ForceVelocity, FrameParams, PrimaryVertical,
+    Secondary, StopLaw, StopSpec, StopTable, Suspension, VehicleSpec,
 };
 
 fn opt(
@@ -67,34 +67,48 @@ fn series(
     })
 }
 
-/// The yaw dampers' force–velocity curve and the damping at zero (N s/m) it implies, from
-/// `fv` and the section's `secondary.yaw_damping` (`given`): the blow-off form's first slope is
-/// `given` (required); a table's forces are scaled so that its slope at zero is `given` when
-/// that is set (the table gives the curve's shape, the damping key its size, so that it can be
-/// swept), and are taken as written otherwise.
+/// A table `points = [[x, force], …]` in SI, `key` naming it (`….points`): `x` of dimension
+/// `dim`, forces in N, every value finite. The table's own rules are the model's
+/// ([`ForceVelocity::from_points`], [`StopTable::from_points`]).
+fn points_table(
+    key: &str,
+    points: &PointsTable,
+    dim: Dimension,
+) -> Result<Vec<(f64, f64)>, StudyError> {
+    let finite = |v: f64| v.is_finite();
+    let mut pts = Vec::with_capacity(points.len());
+    for (i, [x, f]) in points.iter().enumerate() {
+        let k = format!("{key}[{i}]");
+        pts.push((
+            checked(&k, x, dim, finite, "must be finite")?,
+            checked(&k, f, Dimension::Force, finite, "must be finite")?,
+        ));
+    }
+    Ok(pts)
+}
+
+/// The force–velocity curve of a damper (`key`, e.g. `secondary.yaw_damper_force_velocity`)
+/// and the damping at zero (N s/m) it implies, from `fv` and the section's damping key
+/// (`damping_key`, its value `given`): the blow-off form's first slope is `given` (required); a
+/// table's forces are scaled so that its slope at zero is `given` when that is set (the table
+/// gives the curve's shape, the damping key its size, so that it can be swept), and are taken
+/// as written otherwise.
 fn force_velocity(
+    (key, damping_key): (&str, &str),
     fv: &ForceVelocitySection,
     given: Option<f64>,
 ) -> Result<(f64, ForceVelocity), StudyError> {
     use Dimension::*;
-    const KEY: &str = "secondary.yaw_damper_force_velocity";
-    let key = |k: &str| format!("{KEY}.{k}");
-    let bad = |k: &str, e: String| rule(&key(k), "as given", &e);
+    let sub = |k: &str| format!("{key}.{k}");
+    let bad = |k: &str, e: String| rule(&sub(k), "as given", &e);
     match (&fv.points, &fv.blow_off_force, &fv.slope_after) {
         (Some(points), None, None) => {
-            let mut pts = Vec::with_capacity(points.len());
-            for (i, [v, f]) in points.iter().enumerate() {
-                let k = key(&format!("points[{i}]"));
-                pts.push((
-                    checked(&k, v, Speed, |v| v.is_finite(), "must be finite")?,
-                    checked(&k, f, Force, |v| v.is_finite(), "must be finite")?,
-                ));
-            }
+            let pts = points_table(&sub("points"), points, Speed)?;
             let g = ForceVelocity::from_points(&pts).map_err(|e| bad("points", e))?;
             match given {
                 Some(c) if c > 0.0 => Ok((c, g.scaled(c / g.slope_at_zero()))),
                 Some(c) => Err(rule(
-                    "secondary.yaw_damping",
+                    damping_key,
                     format!("{c} N s/m"),
                     "must be positive with a force-velocity curve (it scales the curve)",
                 )),
@@ -102,23 +116,50 @@ fn force_velocity(
             }
         }
         (None, Some(force), Some(after)) => {
-            let force = positive(&key("blow_off_force"), force, Force)?;
-            let after = positive(&key("slope_after"), after, Damping)?;
+            let force = positive(&sub("blow_off_force"), force, Force)?;
+            let after = positive(&sub("slope_after"), after, Damping)?;
             let c = given
                 .filter(|c| *c > 0.0)
                 .ok_or_else(|| StudyError::Missing {
-                    key: "secondary.yaw_damping".into(),
-                    why: format!("{KEY}'s blow-off form takes its first slope from it (> 0)"),
+                    key: damping_key.into(),
+                    why: format!("{key}'s blow-off form takes its first slope from it (> 0)"),
                 })?;
             let g = ForceVelocity::blow_off(c, force / c, after).map_err(|e| bad("", e))?;
             Ok((c, g))
         }
         _ => Err(rule(
-            KEY,
+            key,
             "as given",
             "give either points = [[velocity, force], ...] or both blow_off_force and slope_after",
         )),
     }
+}
+
+/// The damper `what` (`lateral`, `longitudinal`, `vertical`, `yaw`) of section `prefix` with its
+/// force–velocity curve `fv` when given: its damping (`given`, or the curve's slope at zero) and
+/// the curve, which needs the damper's series stiffness `series` (the curve acts on the stroke).
+fn damper_curve(
+    (prefix, what): (&str, &str),
+    fv: Option<&ForceVelocitySection>,
+    given: Option<f64>,
+    series: Option<f64>,
+) -> Result<(Option<f64>, Option<ForceVelocity>), StudyError> {
+    let Some(fv) = fv else {
+        return Ok((given, None));
+    };
+    let key = format!("{prefix}.{what}_damper_force_velocity");
+    let damping_key = format!("{prefix}.{what}_damping");
+    let (c, g) = force_velocity((&key, &damping_key), fv, given)?;
+    if series.is_none() {
+        return Err(StudyError::Missing {
+            key: format!("{prefix}.{what}_damper_series_stiffness"),
+            why: format!(
+                "{key} acts on the damper's stroke, which needs the bushes' series stiffness (a \
+                 rigidly attached nonlinear damper: give a stiff one, e.g. 1e9 N/m)"
+            ),
+        });
+    }
+    Ok((Some(c), Some(g)))
 }
 
 /// A spring section's bump stop (docs/model.md §13), `prefix` naming it: `bump_stop_clearance`
@@ -135,16 +176,9 @@ fn bump_stop(prefix: &str, s: Springs<'_>) -> Result<Option<StopSpec>, StudyErro
     let table = match s.bump_stop_table {
         None => None,
         Some(t) => {
-            let mut pts = Vec::with_capacity(t.points.len());
-            for (i, [p, f]) in t.points.iter().enumerate() {
-                let k = format!("{}.points[{i}]", key("force_table"));
-                pts.push((
-                    checked(&k, p, Length, |v| v.is_finite(), "must be finite")?,
-                    checked(&k, f, Force, |v| v.is_finite(), "must be finite")?,
-                ));
-            }
-            let table = StopTable::from_points(&pts)
-                .map_err(|e| rule(&format!("{}.points", key("force_table")), "as given", &e))?;
+            let points = format!("{}.points", key("force_table"));
+            let pts = points_table(&points, &t.points, Length)?;
+            let table = StopTable::from_points(&pts).map_err(|e| rule(&points, "as given", &e))?;
             Some(table)
         }
     };
@@ -181,27 +215,50 @@ fn bump_stop(prefix: &str, s: Springs<'_>) -> Result<Option<StopSpec>, StudyErro
     }
 }
 
-/// A spring section's vertical stiffness and damping (default 0) and height (default 0).
+/// A spring section's vertical stiffness and damping (default 0; a vertical curve's slope at
+/// zero without the damping key), height (default 0), its dampers' series stiffnesses and
+/// force–velocity curves, and its bump stop.
 fn vertical(prefix: &str, s: Springs<'_>) -> Result<PrimaryVertical, StudyError> {
     use Dimension::*;
     let key = |k: &str| format!("{prefix}.{k}");
+    let stiffness = opt(
+        &key("vertical_stiffness"),
+        s.vertical[0],
+        Stiffness,
+        non_negative,
+    )?;
+    let series = series(prefix, s, None)?;
+    let [lateral, longitudinal, vertical] = s.force_velocity;
+    // the lateral and longitudinal damping keys are required (read again here, as checked by
+    // `springs`): the curves' first slope and scale
+    let curve = |what: &str, fv, damping: &Quantity, ks| {
+        let c = non_negative(&key(&format!("{what}_damping")), damping, Damping)?;
+        damper_curve((prefix, what), fv, Some(c), ks).map(|(_, g)| g)
+    };
+    let damping = opt(
+        &key("vertical_damping"),
+        s.vertical[1],
+        Damping,
+        non_negative,
+    )?;
+    let (damping, vertical_curve) =
+        damper_curve((prefix, "vertical"), vertical, damping, series.vertical)?;
+    let curves = DamperCurves {
+        lateral: curve("lateral", lateral, s.damping[0], series.lateral)?,
+        longitudinal: curve(
+            "longitudinal",
+            longitudinal,
+            s.damping[1],
+            series.longitudinal,
+        )?,
+        vertical: vertical_curve,
+    };
     Ok(PrimaryVertical {
-        stiffness: opt(
-            &key("vertical_stiffness"),
-            s.vertical[0],
-            Stiffness,
-            non_negative,
-        )?
-        .unwrap_or(0.0),
-        damping: opt(
-            &key("vertical_damping"),
-            s.vertical[1],
-            Damping,
-            non_negative,
-        )?
-        .unwrap_or(0.0),
+        stiffness: stiffness.unwrap_or(0.0),
+        damping: damping.unwrap_or(0.0),
         height: height(&key("height"), s.height)?,
-        series: series(prefix, s, None)?,
+        series,
+        curves,
         bump_stop: bump_stop(prefix, s)?,
     })
 }
@@ -270,22 +327,12 @@ fn secondary(f: &StudyFile) -> Result<Secondary, StudyError> {
         s.springs(),
         s.yaw_damper_series_stiffness.as_ref(),
     )?;
-    let (yaw_damping, curve) = match &s.yaw_damper_force_velocity {
-        None => (yaw_damping, None),
-        Some(fv) => {
-            let (c, g) = force_velocity(fv, yaw_damping)?;
-            (Some(c), Some(g))
-        }
-    };
-    if curve.is_some() && series.yaw.is_none() {
-        return Err(StudyError::Missing {
-            key: "secondary.yaw_damper_series_stiffness".into(),
-            why: "secondary.yaw_damper_force_velocity acts on the damper's stroke, which needs \
-                  the bushes' series stiffness (a rigidly attached nonlinear damper: give a \
-                  stiff one, e.g. 1e9 N/m)"
-                .into(),
-        });
-    }
+    let (yaw_damping, curve) = damper_curve(
+        ("secondary", "yaw"),
+        s.yaw_damper_force_velocity.as_ref(),
+        yaw_damping,
+        series.yaw,
+    )?;
     if yaw_damping.is_some_and(|c| c > 0.0) && yaw_spacing.is_none() {
         return Err(StudyError::Missing {
             key: "secondary.yaw_damper_half_spacing".into(),
@@ -311,6 +358,7 @@ fn secondary(f: &StudyFile) -> Result<Secondary, StudyError> {
         .unwrap_or(spacing),
         height: v.height,
         series,
+        curves: v.curves,
         yaw_damper_force_velocity: curve,
         bump_stop: v.bump_stop,
     })

@@ -43,6 +43,26 @@ pub fn grid(n: usize, half: f64) -> Vec<f64> {
         .collect()
 }
 
+/// studies/dtu-cooperrider-bogie.toml with `lines` added to its `[section]`, its table named by
+/// absolute path.
+pub fn dtu_bogie_text(section: &str, lines: &str) -> String {
+    let text =
+        std::fs::read_to_string(root().join("studies/dtu-cooperrider-bogie.toml")).expect("study");
+    let table = root().join("studies/tables/dtu-rsgeo-1o40.csv");
+    text.replace(
+        "\"tables/dtu-rsgeo-1o40.csv\"",
+        &format!("{:?}", table.to_str().expect("utf-8")),
+    )
+    .replace(&format!("[{section}]"), &format!("[{section}]\n{lines}"))
+}
+
+/// [`dtu_bogie_text`] written to `dir/bogie.toml`.
+pub fn dtu_bogie_with(dir: &Path, section: &str, lines: &str) -> PathBuf {
+    let path = dir.join("bogie.toml");
+    std::fs::write(&path, dtu_bogie_text(section, lines)).expect("write");
+    path
+}
+
 /// The crate's folder.
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -119,7 +139,9 @@ pub fn excursions_across_death<const N: usize>(
 
 /// The sparse variational product $JΦ$ of `model` at `x` equals the dense product of `jac`
 /// (the exact Jacobian, column-major as `Vehicle::jacobian_into` writes it) with a fixed Φ, to
-/// 1e-12 of each entry's largest term, and its f equals `f` bit for bit.
+/// 1e-12 of each entry's largest term, and its f equals `f` bit for bit; the tangent product
+/// $Jξ$ equals the dense one with a fixed ξ, to 1e-10 of each entry's largest term, its f `f`
+/// to 1e-12.
 pub fn assert_variational_is_the_dense_product<const N: usize>(
     model: &critspeed::model::Vehicle,
     x: &[f64],
@@ -146,6 +168,52 @@ pub fn assert_variational_is_the_dense_product<const N: usize>(
             );
         }
     }
+    let xi = SVector::<f64, N>::from_fn(|r, _| ((r * 7 + 9) % 11) as f64 - 5.0);
+    let (ft, jxi) = VectorField::<N>::rhs_tangent(model, &xs, speed, &xi);
+    let want = jm * xi;
+    for r in 0..N {
+        assert!(
+            (ft[r] - f[r]).abs() <= 1e-12 * f[r].abs().max(1.0),
+            "f row {r}"
+        );
+        let scale = (0..N).fold(1e-300_f64, |s, k| s.max((jm[(r, k)] * xi[k]).abs()));
+        assert!(
+            (jxi[r] - want[r]).abs() <= 1e-10 * scale,
+            "Jξ[{r}]: {} vs {}",
+            jxi[r],
+            want[r]
+        );
+    }
+}
+
+/// The exact Jacobian `jac` of `model` at `x` (column-major, as `Vehicle::jacobian_into` writes
+/// it) equals central differences of f with step `h`: each entry to `tol` of max(|J|, 1).
+/// Returns the worst relative difference.
+pub fn assert_jacobian_is_central_differences(
+    model: &critspeed::model::Vehicle,
+    x: &[f64],
+    speed: f64,
+    jac: &[f64],
+    (h, tol): (f64, f64),
+) -> f64 {
+    let n = x.len();
+    let mut worst = 0.0_f64;
+    for c in 0..n {
+        let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+        xp[c] += h;
+        xm[c] -= h;
+        let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
+        model.rhs_into(&xp, speed, &mut fp);
+        model.rhs_into(&xm, speed, &mut fm);
+        for r in 0..n {
+            let fd = (fp[r] - fm[r]) / (2.0 * h);
+            let exact = jac[c * n + r];
+            let err = (fd - exact).abs() / exact.abs().max(1.0);
+            worst = worst.max(err);
+            assert!(err <= tol, "J[{r}][{c}]: {exact} vs difference {fd}");
+        }
+    }
+    worst
 }
 
 /// $f(−x) = −f(x)$ for `model` at `x` (whose f is `f`), to 1e-13 of the largest |f|.

@@ -246,6 +246,9 @@ pub(super) struct Rk<'a, const N: usize, F> {
     pub p: f64,
     pub variational: bool,
     pub tol: Tolerances,
+    /// the tolerances of the carried value's error test (`tol` scaled by
+    /// [`OdeOptions::monodromy_tol_factor`](super::OdeOptions::monodromy_tol_factor))
+    pub tol_phi: Tolerances,
     pub rhs_evals: usize,
 }
 
@@ -441,7 +444,7 @@ impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
         let mut err = scaled_rms(&ex, &p0.x, &x1, &self.tol);
         if self.variational {
             let ep = C::combine(&C::zero(), h, &E, &kp);
-            let e_phi = C::error(&ep, &p0.phi, &phi1, &self.tol);
+            let e_phi = C::error(&ep, &p0.phi, &phi1, &self.tol_phi);
             err = err.max(e_phi);
         }
         let end = Point {

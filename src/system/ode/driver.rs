@@ -7,7 +7,7 @@ use nalgebra::{SMatrix, SVector};
 
 use super::dopri::{Carried, Column, Controller, Dense, Point, Rk, Trial, FAC_MIN};
 use super::events::{brent, land_on, Switches};
-use super::{OdeError, OdeOptions, Solution, Stats, StopReason, VectorField};
+use super::{OdeError, OdeOptions, Solution, Stats, StopReason, Tolerances, VectorField};
 
 /// The loop's result: the solution, the last step size (for [`OdeError::StepSizeTooSmall`]),
 /// and whether the per-step hook ended the run.
@@ -75,6 +75,10 @@ where
         p,
         variational: opts.monodromy || C::ALWAYS,
         tol: opts.tol,
+        tol_phi: Tolerances {
+            rtol: opts.tol.rtol * opts.monodromy_tol_factor,
+            atol: opts.tol.atol * opts.monodromy_tol_factor,
+        },
         rhs_evals: 0,
     };
     let mut cur = rk.point(0.0, *x0, phi0);

@@ -153,6 +153,12 @@ pub struct OdeOptions {
     /// Also integrate $\dot\Phi = J\Phi$ and return $\Phi(t)$. Default false (it costs a
     /// Jacobian and an $N\times N$ product per stage).
     pub monodromy: bool,
+    /// The tolerances of $\Phi$'s error test are the state's times this factor (≥ 1).
+    /// Default 1: $\Phi$ is solved to the state's tolerance, and its columns join the step
+    /// control. A larger factor lets the steps be the trajectory's where $\Phi$'s fast modes
+    /// would shorten them: Newton's Jacobian and the Floquet multipliers lose digits (about
+    /// `factor × rtol`), the trajectory keeps its own. See `[bifurcation] floquet_rtol`.
+    pub monodromy_tol_factor: f64,
 }
 
 impl Default for OdeOptions {
@@ -163,6 +169,7 @@ impl Default for OdeOptions {
             h_max: f64::INFINITY,
             max_steps: 1_000_000,
             monodromy: false,
+            monodromy_tol_factor: 1.0,
         }
     }
 }
@@ -186,6 +193,13 @@ impl OdeOptions {
                     rule: "must be finite and > 0",
                 });
             }
+        }
+        if !(self.monodromy_tol_factor.is_finite() && self.monodromy_tol_factor >= 1.0) {
+            return Err(OdeError::BadArgument {
+                name: "monodromy_tol_factor",
+                value: self.monodromy_tol_factor,
+                rule: "must be finite and >= 1",
+            });
         }
         if self.max_steps == 0 {
             return Err(OdeError::BadArgument {

@@ -392,6 +392,7 @@ fn step_exact_to_degree_5_and_dense_output_to_degree_4() {
         p: 0.0,
         variational: false,
         tol: Tolerances::default(),
+        tol_phi: Tolerances::default(),
         rhs_evals: 0,
     };
     let p0 = rk.point(
