@@ -264,7 +264,8 @@ fn stability_runs(cycles: &[&crate::bifurcation::CycleRow]) -> Vec<(bool, Vec<(f
 pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> Rendered {
     let mut fig = bifurcation_figure(r);
     headroom(&mut fig);
-    render("bifurcation.svg", &fig, 1000, 650)
+    let h = diagram_height(650, &fig);
+    render("bifurcation.svg", &fig, 1000, h)
 }
 
 /// `attractors.svg`: every attractor the search found, amplitude (the leading wheelset's max
@@ -304,7 +305,17 @@ pub fn attractors(
         });
     }
     headroom(&mut fig);
-    render("attractors.svg", &fig, 1100, 700)
+    let h = diagram_height(700, &fig);
+    render("attractors.svg", &fig, 1100, h)
+}
+
+/// The canvas height of a diagram: `base` up to 8 legend entries, 32 px more for each further
+/// one, so that a legend that goes below the plot (a car's search lists a dozen attractors)
+/// takes its room from a taller canvas, not from the plot.
+fn diagram_height(base: u32, fig: &Figure) -> u32 {
+    let entries = fig.series.iter().filter(|s| !s.name.is_empty()).count();
+    let extra = u32::try_from(entries.saturating_sub(8)).unwrap_or(u32::MAX / 64);
+    base.saturating_add(32 * extra.min(100))
 }
 
 /// Room above the data for the legend: the y range from just below 0 to well above the largest
