@@ -54,7 +54,8 @@ pub struct BifurcationOptions {
     /// floquet_rtol`); `None` (default): `rtol`. The cycles keep `rtol`; Newton's Jacobian and
     /// the Floquet multipliers are solved to this one, so that a vehicle whose stiff modes the
     /// variational equations excite (but the cycle does not) takes the cycle's steps: on
-    /// studies/passenger-car-s1002.toml 1e-7 takes 3.7× less time per cycle (docs/performance.md)
+    /// studies/passenger-car-s1002.toml 1e-7 takes 3.7× less time over the first 40 cycles, at
+    /// a cost in multiplier accuracy and Newton convergence (docs/nonlinear.md)
     pub floquet_rtol: Option<f64>,
     /// largest continuation step (scaled: 1 ≈ 1 mm or 1 m/s); default 2 (AUTO-07p's DSMAX in
     /// the peer comparison): the step grows to it only on easy stretches (Newton at or below
