@@ -228,7 +228,6 @@ pub const REFERENCE_SECONDARY: crate::model::Secondary = crate::model::Secondary
     height: 0.6584,
     series: crate::model::DamperSeries::RIGID,
     curves: crate::model::DamperCurves::LINEAR,
-    yaw_damper_force_velocity: None,
     bump_stop: None,
 };
 

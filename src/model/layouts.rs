@@ -17,8 +17,8 @@
 //!   secondary above the frame's and the car body's centres.
 //! * **secondary vertical** (when given): the same ends at $±d_v$, stiffness and damping along z.
 //! * **yaw damper** (when given): the same ends at $±d_{yd}$, damping along x.
-//! * any damper on series stiffness may follow a force–velocity curve ([`DamperCurves`], the
-//!   yaw damper's [`Secondary::yaw_damper_force_velocity`]) instead of its linear rate.
+//! * any damper on series stiffness may follow a force–velocity curve ([`DamperCurves`])
+//!   instead of its linear rate.
 //! * **bump stops** (when given, docs/model.md §13): one per wheelset on the primary's lateral
 //!   deflection and one per frame on the secondary's, free play $±δ_b$ then a stiff spring.
 //!
@@ -52,9 +52,9 @@ impl DamperSeries {
     };
 }
 
-/// The force–velocity curves of a suspension's lateral, longitudinal and vertical dampers
-/// (docs/model.md §13), each on series stiffness only; `None`: linear, the section's damping.
-/// A curve's slope at zero is that damping.
+/// The force–velocity curves of a suspension's dampers (docs/model.md §13), each on series
+/// stiffness only, as [`DamperSeries`] lists them; `None`: linear, the section's damping. A
+/// curve's slope at zero is that damping.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DamperCurves {
     /// the lateral damper's
@@ -63,6 +63,8 @@ pub struct DamperCurves {
     pub longitudinal: Option<ForceVelocity>,
     /// the vertical damper's
     pub vertical: Option<ForceVelocity>,
+    /// the yaw damper's (secondary only)
+    pub yaw: Option<ForceVelocity>,
 }
 
 impl DamperCurves {
@@ -71,6 +73,7 @@ impl DamperCurves {
         lateral: None,
         longitudinal: None,
         vertical: None,
+        yaw: None,
     };
 }
 
@@ -132,12 +135,9 @@ pub struct Secondary {
     pub height: f64,
     /// the secondary dampers' series stiffnesses
     pub series: DamperSeries,
-    /// the secondary lateral, longitudinal and vertical dampers' force–velocity curves (on
-    /// series stiffness only)
+    /// the secondary dampers' force–velocity curves (on series stiffness only); a yaw curve's
+    /// slope at zero is `yaw_damping`
     pub curves: DamperCurves,
-    /// the yaw dampers' force–velocity characteristic (on series stiffness only);
-    /// `yaw_damping` is then its slope at zero
-    pub yaw_damper_force_velocity: Option<ForceVelocity>,
     /// a lateral bump stop per frame, frame to car body (to the track for a bogie),
     /// docs/model.md §13; `None`: none
     pub bump_stop: Option<StopSpec>,
@@ -320,7 +320,7 @@ fn secondary(
         [0.0; 3],
         [sec.yaw_damping, 0.0, 0.0],
         [series.yaw, None, None],
-        [sec.yaw_damper_force_velocity, None, None],
+        [sec.curves.yaw, None, None],
     );
     if let Some(stop) = sec.bump_stop {
         // one stop per frame on the secondary springs' lateral deflection (roll lever arms

@@ -252,6 +252,7 @@ fn vertical(prefix: &str, s: Springs<'_>) -> Result<PrimaryVertical, StudyError>
             series.longitudinal,
         )?,
         vertical: vertical_curve,
+        yaw: None,
     };
     Ok(PrimaryVertical {
         stiffness: stiffness.unwrap_or(0.0),
@@ -358,8 +359,10 @@ fn secondary(f: &StudyFile) -> Result<Secondary, StudyError> {
         .unwrap_or(spacing),
         height: v.height,
         series,
-        curves: v.curves,
-        yaw_damper_force_velocity: curve,
+        curves: DamperCurves {
+            yaw: curve,
+            ..v.curves
+        },
         bump_stop: v.bump_stop,
     })
 }
