@@ -252,3 +252,63 @@ fn a_floquet_tolerance_outside_its_range_is_refused() {
         assert!(msg.contains("bifurcation.floquet_rtol"), "{msg}");
     }
 }
+
+/// The number after `before` in `text`, up to the next space.
+fn number_after(text: &str, before: &str) -> f64 {
+    let rest = &text[text.find(before).expect(before) + before.len()..];
+    rest.split(' ')
+        .next()
+        .expect("a number")
+        .parse()
+        .expect("a number")
+}
+
+/// A branch that turns down to low speeds, where the creep forces' modes make the model stiff,
+/// stops there as too stiff, with its figures: the DTU bogie with `young_modulus = "2100 GPa"`
+/// (ten times steel's). The stability bound in its stop reason is 3.3/|λ|max of the centred
+/// motion's Jacobian at the stop speed, recomputed here by nalgebra's eigenvalues (to the 3
+/// printed digits), and the cycle's mean step lies within a factor 2 of it: the step is held
+/// by stability, not by accuracy (accuracy-limited steps do not stop a branch:
+/// tests/continuation.rs).
+#[test]
+fn a_branch_stops_where_the_explicit_step_is_held_at_its_stability_bound() {
+    let dir = std::env::temp_dir().join(format!("critspeed-stiff-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("studies/dtu-cooperrider-bogie.toml"))
+        .expect("study")
+        .replace(
+            "\"tables/dtu-rsgeo-1o40.csv\"",
+            &format!("{:?}", root.join("studies/tables/dtu-rsgeo-1o40.csv")),
+        );
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("young_modulus"))
+        .expect("the study gives young_modulus");
+    let path = dir.join("stiff.toml");
+    std::fs::write(&path, text.replace(line, "young_modulus = \"2100 GPa\"")).expect("write");
+    let plan = study::load(&path).expect("study loads");
+    let model = plan.model().expect("model builds");
+    let report = analyse(&plan.name, &model, &plan.bifurcation_options()).expect("analysis");
+    let reason = &report.branches[0].stop_reason;
+    assert!(reason.contains("as too stiff"), "{reason}");
+    let speed = number_after(reason, "stopped at ");
+    let mean = number_after(reason, "mean step of ");
+    let bound = number_after(reason, "stability bound of ");
+    let j = critspeed::stability::LinearSystem::<12>::at_centre(&model).jacobian(speed);
+    let rho = j
+        .complex_eigenvalues()
+        .iter()
+        .map(|z| z.norm())
+        .fold(0.0, f64::max);
+    assert!(
+        (bound - 3.3 / rho).abs() <= 5e-3 * bound,
+        "{bound} vs 3.3/{rho} at {speed} m/s"
+    );
+    assert!(mean >= 0.5 * bound, "{mean} vs {bound}");
+    assert!(
+        report.notes.iter().any(|n| n.contains("as too stiff")),
+        "{:?}",
+        report.notes
+    );
+}

@@ -289,3 +289,30 @@ fn multiple_shooting_on_4_12_and_30_states() {
     segments_case::<12>();
     segments_case::<30>();
 }
+
+/// A branch stops as stiff only where both hold: many integrator steps per Newton iteration and
+/// a mean step near the explicit integrator's stability bound 3.3/|λ|max at the centre. The
+/// normal form's steps are set by accuracy (rtol 1e-12; |λ|max = |a μ ± iω| ≈ 2 at the centre,
+/// a bound of about 1.6 s, far above its steps): with a limit of one step per iteration its
+/// branch still runs to its amplitude bound.
+#[test]
+fn accuracy_limited_steps_do_not_stop_a_branch_as_stiff() {
+    let field = HopfNormalForm {
+        omega: 2.0,
+        a: -1.0,
+        b: 0.0,
+    };
+    let mut c = continuation(&field, (-1.0, 1.0), 0.9, true);
+    c.params.max_steps_per_iteration = Some(1.0);
+    let (start, dir) = from_hopf(&field);
+    let branch = c.run(start, dir);
+    assert!(
+        matches!(
+            branch.stop,
+            BranchStop::AmplitudeBound { .. } | BranchStop::ParamBound { .. }
+        ),
+        "{:?}",
+        branch.stop
+    );
+    assert!(branch.points.len() > 10, "{}", branch.points.len());
+}

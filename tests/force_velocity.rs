@@ -318,3 +318,81 @@ fn bad_curves_are_refused_by_name() {
         }
     }
 }
+
+/// The secondary lateral dampers' curve of `plan` (the bogie's).
+fn lateral_curve(plan: &critspeed::study::Plan) -> Option<critspeed::model::ForceVelocity> {
+    match &plan.vehicle {
+        critspeed::model::VehicleSpec::Bogie { secondary, .. } => secondary.curves.lateral,
+        _ => None,
+    }
+}
+
+/// The blow-off's two numbers are sweep keys (and so `[curve]` and uncertainty keys): each point
+/// of a sweep over `secondary.lateral_damper_force_velocity.blow_off_force` carries its force
+/// into the model (the knee at the swept force, the slope after it as given) and, since the
+/// linear analysis uses the slope at zero, every point's V_L is the study's to 1e-12; a sweep
+/// over `slope_after` sets the tail. On a table curve the blow-off key is refused by name.
+#[test]
+fn the_blow_off_is_swept_into_the_model() {
+    use critspeed::sweep::SweepStudy;
+    let sweep = |name: &str, curve: &str, axis: &str| {
+        let path = dtu_bogie(name, &format!("{SERIES}\n{curve}"), |t| {
+            format!("{t}\n[sweep]\naxes = [ {axis} ]\ncompute = [\"kalker\"]\n")
+        });
+        SweepStudy::load(&path)
+    };
+    let study = sweep(
+        "fv-sweep-force",
+        BLOW_OFF,
+        "{ key = \"secondary.lateral_damper_force_velocity.blow_off_force\", from = \"0.5 kN\", \
+         to = \"4 kN\", count = 3 }",
+    )
+    .expect("sweep study");
+    let v_l = |plan: &critspeed::study::Plan| {
+        let r = critspeed::analysis::linear(plan, &plan.model().expect("model")).expect("linear");
+        r.kalker.critical().expect("V_L").speed_m_s
+    };
+    let v0 = v_l(&study.base);
+    for (id, force) in [500.0, 2250.0, 4000.0].into_iter().enumerate() {
+        let plan = study.point_plan(id).expect("point plan");
+        let g = lateral_curve(&plan).expect("the point's curve");
+        assert_eq!(g.knee_forces(), &[force], "point {id}");
+        let (_, tail) = g.points();
+        assert!((tail - 5e3).abs() <= 1e-9 * 5e3, "point {id}: {tail}");
+        assert!((g.slope_at_zero() - DAMPING).abs() <= 1e-9 * DAMPING);
+        let v = v_l(&plan);
+        assert!((v - v0).abs() <= 1e-12 * v0, "point {id}: {v} vs {v0}");
+    }
+    let study = sweep(
+        "fv-sweep-slope",
+        BLOW_OFF,
+        "{ key = \"secondary.lateral_damper_force_velocity.slope_after\", from = \"1 kN s/m\", \
+         to = \"9 kN s/m\", count = 2 }",
+    )
+    .expect("sweep study");
+    for (id, after) in [1e3, 9e3].into_iter().enumerate() {
+        let plan = study.point_plan(id).expect("point plan");
+        let (_, tail) = lateral_curve(&plan).expect("curve").points();
+        assert!((tail - after).abs() <= 1e-9 * after, "point {id}: {tail}");
+    }
+    let table = "lateral_damper_force_velocity = { points = [[\"0.02 m/s\", \"1 kN\"]] }";
+    let err = match sweep(
+        "fv-sweep-table",
+        table,
+        "{ key = \"secondary.lateral_damper_force_velocity.blow_off_force\", from = \"1 kN\", \
+         to = \"2 kN\", count = 2 }",
+    ) {
+        // refused when the sweep is read (its axis ends are validated), else at the point
+        Ok(s) => s
+            .point_plan(0)
+            .map(|_| ())
+            .expect_err("a blow-off key on a table")
+            .to_string(),
+        Err(e) => e.to_string(),
+    };
+    assert!(err.contains("give either points"), "{err}");
+    assert!(
+        err.contains("secondary.lateral_damper_force_velocity"),
+        "{err}"
+    );
+}

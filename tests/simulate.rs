@@ -494,3 +494,46 @@ fn bad_options_name_the_field() {
         assert!(err.to_string().contains(field), "{err}");
     }
 }
+
+/// The printed verdict is the trend at the run's end, not the change since the start: on
+/// seed-hunting at 100 m/s, above its V_NL, starts at 30 mm and at 10 mm end on the same
+/// amplitude (to 1e-3: an attracting cycle between them, about 19 mm), the first shrinking onto
+/// it (`sustained (hunting)`, where the last 10 % against the first gave `decays`), the second
+/// growing onto it; at 50 m/s, below V_L, the motion dies to round-off (`decays (to rest)`,
+/// whose last tenths of 1e-13 m no longer read as growth).
+#[test]
+fn the_simulation_verdict_is_the_trend_at_the_end() {
+    let dir = std::env::temp_dir().join(format!("critspeed-verdict-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    let study = format!("{}/studies/seed-hunting.toml", env!("CARGO_MANIFEST_DIR"));
+    // (the last tenth's amplitude in mm, the verdict)
+    let run = |speed: &str, y0: &str| -> (f64, String) {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_critspeed"))
+            .args(["simulate", &study, "--speed", speed, "--y0", y0, "--out"])
+            .arg(&dir)
+            .output()
+            .expect("runs");
+        assert_eq!(out.status.code(), Some(0), "{out:?}");
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        let line = text
+            .lines()
+            .find(|l| l.contains("last 10 %"))
+            .expect("a verdict line");
+        let (head, verdict) = line.rsplit_once(" mm: ").expect("amplitude and verdict");
+        let last = head
+            .rsplit("last 10 %")
+            .next()
+            .and_then(|v| v.trim().parse().ok())
+            .expect("the last tenth's amplitude");
+        (last, verdict.to_string())
+    };
+    let (above, verdict) = run("100", "30 mm");
+    assert_eq!(verdict, "sustained (hunting)");
+    let (below, verdict) = run("100", "10 mm");
+    assert_eq!(verdict, "sustained (hunting)");
+    assert!(
+        (above - below).abs() <= 1e-3 * below && below > 10.0 && above < 30.0,
+        "{above} mm vs {below} mm"
+    );
+    assert_eq!(run("50", "10 mm").1, "decays (to rest)");
+}

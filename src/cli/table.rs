@@ -378,7 +378,11 @@ pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> String {
     s
 }
 
-/// Summary of time simulations: amplitude early and late, and whether the motion grew.
+/// Below this amplitude (m) a motion is at rest: its trend there is round-off, not hunting.
+const SUSTAINED_M: f64 = 1e-6;
+
+/// Summary of time simulations: amplitude early and late, and the motion's trend at the end of
+/// the run (the last tenth against the tenth before it).
 pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> String {
     let mut s = format!(
         "\nstudy '{study}': time simulation (lateral amplitude: the largest wheelset's max|y|)\n"
@@ -400,14 +404,24 @@ pub fn simulate(study: &str, runs: &[crate::simulate::TimeHistory]) -> String {
                 .fold(0.0, |m: f64, v| m.max(v.abs()))
         };
         let n = h.x.len();
-        let first = amplitude(&h.x[..n / 10 + 1]);
-        let last = amplitude(&h.x[(n - n / 10).min(n.saturating_sub(1))..]);
-        let verdict = if last > first * 1.05 {
+        let tenth = n / 10 + 1;
+        let first = amplitude(&h.x[..tenth.min(n)]);
+        let last = amplitude(&h.x[n.saturating_sub(tenth)..]);
+        let before = amplitude(&h.x[n.saturating_sub(2 * tenth)..n.saturating_sub(tenth)]);
+        // the trend at the run's end (the last tenth against the one before it), not against
+        // the start: a motion kicked above its cycle shrinks onto it and hunts on
+        let verdict = if last < SUSTAINED_M {
+            if first >= SUSTAINED_M {
+                "decays (to rest)"
+            } else {
+                "at rest"
+            }
+        } else if last > before * 1.05 {
             "grows (hunting)"
-        } else if last < first * 0.95 {
+        } else if last < before * 0.95 {
             "decays"
         } else {
-            "steady"
+            "sustained (hunting)"
         };
         let _ = writeln!(
             s,

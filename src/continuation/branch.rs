@@ -742,7 +742,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         };
         let mean_step = time / steps_per_iteration;
         let bound = 3.3 / rho;
-        (mean_step.is_finite() && rho > 0.0 && mean_step <= 2.0 * bound).then_some(
+        (mean_step.is_finite() && rho > 0.0 && mean_step >= 0.5 * bound).then_some(
             BranchStop::TooStiff {
                 param,
                 steps_per_iteration,

@@ -144,6 +144,14 @@ const STIFFNESS: Bounds = Bounds::closed(0.0, 1e11);
 const DAMPING: Bounds = Bounds::closed(0.0, 1e9);
 /// a series stiffness is positive (absent is rigid); beyond 1e11 N/m it is rigid to f64
 const SERIES: Bounds = Bounds::left_open(0.0, 1e11);
+/// a damper's relief valve: the blow-off force (N) and the slope after it (N s/m), both positive
+/// (a curve rises); beyond 1e8 N and 1e9 N s/m they swamp the creep forces
+const BLOW_OFF: (f64, f64) = (100.0, 1e5);
+const BLOW_OFF_BOUNDS: Bounds = Bounds::left_open(0.0, 1e8);
+const BLOW_OFF_WHY: &str = "relief valves of hydraulic dampers, 0.1 to 100 kN";
+const SLOPE_AFTER: (f64, f64) = (10.0, 2e6);
+const SLOPE_AFTER_BOUNDS: Bounds = Bounds::left_open(0.0, 1e9);
+const SLOPE_AFTER_WHY: &str = "dampers' slopes beyond their relief valves";
 const SPACING: Bounds = Bounds::closed(1e-3, 20.0);
 const HEIGHT: Bounds = Bounds::closed(-10.0, 10.0);
 const SPEED: Bounds = Bounds::closed(1e-3, 1e5);
@@ -230,6 +238,48 @@ macro_rules! springs {
                 "rubber end bushes of dampers, soft to stiff",
             ),
             row(
+                concat!($p, ".lateral_damper_force_velocity.blow_off_force"),
+                Force,
+                BLOW_OFF,
+                BLOW_OFF_BOUNDS,
+                BLOW_OFF_WHY,
+            ),
+            row(
+                concat!($p, ".lateral_damper_force_velocity.slope_after"),
+                Damping,
+                SLOPE_AFTER,
+                SLOPE_AFTER_BOUNDS,
+                SLOPE_AFTER_WHY,
+            ),
+            row(
+                concat!($p, ".longitudinal_damper_force_velocity.blow_off_force"),
+                Force,
+                BLOW_OFF,
+                BLOW_OFF_BOUNDS,
+                BLOW_OFF_WHY,
+            ),
+            row(
+                concat!($p, ".longitudinal_damper_force_velocity.slope_after"),
+                Damping,
+                SLOPE_AFTER,
+                SLOPE_AFTER_BOUNDS,
+                SLOPE_AFTER_WHY,
+            ),
+            row(
+                concat!($p, ".vertical_damper_force_velocity.blow_off_force"),
+                Force,
+                BLOW_OFF,
+                BLOW_OFF_BOUNDS,
+                BLOW_OFF_WHY,
+            ),
+            row(
+                concat!($p, ".vertical_damper_force_velocity.slope_after"),
+                Damping,
+                SLOPE_AFTER,
+                SLOPE_AFTER_BOUNDS,
+                SLOPE_AFTER_WHY,
+            ),
+            row(
                 concat!($p, ".bump_stop_clearance"),
                 Length,
                 (1e-3, 0.1),
@@ -249,7 +299,7 @@ macro_rules! springs {
 
 /// The spring sections' rows, per side: the primary and the secondary share their keys.
 #[rustfmt::skip]
-const SPRINGS: [[Range; 13]; 2] = [springs!("suspension", "primary"), springs!("secondary", "secondary")];
+const SPRINGS: [[Range; 19]; 2] = [springs!("suspension", "primary"), springs!("secondary", "secondary")];
 
 /// Every range but the spring sections'. Why the numbers: see each `why`; stiffnesses end at
 /// 1e11 N/m (a steel bar is about 1e9 N/m, a Hertz contact 1e9 N/m), dampings at 1e9 N s/m,
@@ -283,6 +333,10 @@ const OTHERS: &[Range] = &[
         "yaw dampers, up to the stiffest high-speed ones"),
     row("secondary.yaw_damper_series_stiffness", Stiffness, (1e6, 1e9), SERIES,
         "yaw dampers' end bushes (5 to 20 MN/m on high-speed cars)"),
+    row("secondary.yaw_damper_force_velocity.blow_off_force", Force, BLOW_OFF,
+        BLOW_OFF_BOUNDS, BLOW_OFF_WHY),
+    row("secondary.yaw_damper_force_velocity.slope_after", Damping, SLOPE_AFTER,
+        SLOPE_AFTER_BOUNDS, SLOPE_AFTER_WHY),
     row("secondary.yaw_damper_half_spacing", Length, (0.3, 2.0), SPACING,
         "yaw dampers within the vehicle's width"),
     row("secondary.vertical_half_spacing", Length, (0.3, 2.0), SPACING,

@@ -33,6 +33,30 @@ pub const SWEEP_KEYS: &[(&str, Dimension)] = &[
         "suspension.vertical_damper_series_stiffness",
         Dimension::Stiffness,
     ),
+    (
+        "suspension.lateral_damper_force_velocity.blow_off_force",
+        Dimension::Force,
+    ),
+    (
+        "suspension.lateral_damper_force_velocity.slope_after",
+        Dimension::Damping,
+    ),
+    (
+        "suspension.longitudinal_damper_force_velocity.blow_off_force",
+        Dimension::Force,
+    ),
+    (
+        "suspension.longitudinal_damper_force_velocity.slope_after",
+        Dimension::Damping,
+    ),
+    (
+        "suspension.vertical_damper_force_velocity.blow_off_force",
+        Dimension::Force,
+    ),
+    (
+        "suspension.vertical_damper_force_velocity.slope_after",
+        Dimension::Damping,
+    ),
     ("suspension.bump_stop_clearance", Dimension::Length),
     ("suspension.bump_stop_stiffness", Dimension::Stiffness),
     ("bogie.mass", Dimension::Mass),
@@ -65,6 +89,38 @@ pub const SWEEP_KEYS: &[(&str, Dimension)] = &[
     (
         "secondary.yaw_damper_series_stiffness",
         Dimension::Stiffness,
+    ),
+    (
+        "secondary.lateral_damper_force_velocity.blow_off_force",
+        Dimension::Force,
+    ),
+    (
+        "secondary.lateral_damper_force_velocity.slope_after",
+        Dimension::Damping,
+    ),
+    (
+        "secondary.longitudinal_damper_force_velocity.blow_off_force",
+        Dimension::Force,
+    ),
+    (
+        "secondary.longitudinal_damper_force_velocity.slope_after",
+        Dimension::Damping,
+    ),
+    (
+        "secondary.vertical_damper_force_velocity.blow_off_force",
+        Dimension::Force,
+    ),
+    (
+        "secondary.vertical_damper_force_velocity.slope_after",
+        Dimension::Damping,
+    ),
+    (
+        "secondary.yaw_damper_force_velocity.blow_off_force",
+        Dimension::Force,
+    ),
+    (
+        "secondary.yaw_damper_force_velocity.slope_after",
+        Dimension::Damping,
     ),
     ("secondary.bump_stop_clearance", Dimension::Length),
     ("secondary.bump_stop_stiffness", Dimension::Stiffness),
