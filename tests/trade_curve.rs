@@ -343,10 +343,15 @@ fn the_cars_trade_settles_its_disagreement_by_simulating_the_fold_cycle() {
     let x = f(&se["objective_si"]);
     assert!(x > best && x < 202.371e3, "{best} {x}");
     assert!(f(&se["margin"]) >= 0.0, "{se}");
-    // the attractor of the settled best design's lowest fold cycle
+    // the attractor of the settled best design's lowest fold cycle: the simulation (from its
+    // cycle 2 % above or below the fold) that confirmed it; near curve 17's cusp the settled
+    // design lies between two folds, and which start reaches the attractor depends on the fold
+    // checked, not on the attractor
     let check = &se["settlement"]["checks"][0];
-    let sim = &check["simulations"][0];
-    assert_eq!(sim["confirmed"], Value::Bool(true), "{sim}");
+    let sim = check["simulations"]
+        .as_array()
+        .and_then(|sims| sims.iter().find(|s| s["confirmed"] == Value::Bool(true)))
+        .unwrap_or_else(|| panic!("no simulation confirmed the fold's attractor: {check}"));
     let hi = f(&sim["dies_bracket_m_s"][1]);
     assert!(hi >= 110.0, "{hi}");
     let state: Vec<f64> = sim["motion"]["state"]
