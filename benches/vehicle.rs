@@ -87,10 +87,9 @@ fn benches(c: &mut Criterion) {
     group.finish();
     let kb = bogie.with_law(CreepLaw::Kalker);
     let kc = car.with_law(CreepLaw::Kalker);
-    // before the linear benches: once faer's eigenvector solve of a 28×28 matrix has run in
-    // the process (the scan's `spectrum_at`), the vector registers' upper halves are left
-    // dirty on this machine and all SSE code runs about 2.5 times slower (measured by the
-    // helper that wrote small_eigen.rs; src/stability/small_eigen.rs says more)
+    // once faer's eigenvector solve of a 28×28 matrix has run in the process, the vector
+    // registers' upper halves are left dirty on this machine and all SSE code runs 2 to 3
+    // times slower; `eigenvalues` clears them first (src/stability/small_eigen.rs says more)
     let jc = LinearSystem::<28>::at_centre(&kc).jacobian(100.0);
     c.bench_function("vehicle/eigenvalues_car", |b| {
         b.iter(|| eigenvalues(black_box(&jc)))

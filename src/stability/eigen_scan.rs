@@ -1,16 +1,17 @@
 //! The critical-speed search for any number of states: eigenvalues on a grid, then Brent's
 //! method on the real part of the eigenvalue that crossed (module docs of [`super`]).
 
-use super::spectrum::{determinant, eigenvalues, spectrum_at, EigenPair};
+use super::spectrum::{determinant, eigenvalues};
 use super::{
     brent, hopf, CriticalSpeeds, Crossing, Direction, LinearError, LinearOptions, LinearSystem,
 };
 use crate::contact::creep::CreepLaw;
 
-/// The eigenvalue of `ev` (Im > 0) nearest to `target`.
+/// The eigenvalue of `ev` (Im > 0) nearest to `target` (by squared distances, here and below:
+/// the same neighbours without the cost of `hypot`).
 fn nearest(ev: &[(f64, f64)], target: (f64, f64)) -> Option<(f64, f64)> {
     ev.iter().copied().filter(|z| z.1 > 0.0).min_by(|a, b| {
-        let d = |z: &(f64, f64)| (z.0 - target.0).hypot(z.1 - target.1);
+        let d = |z: &(f64, f64)| (z.0 - target.0).powi(2) + (z.1 - target.1).powi(2);
         d(a).total_cmp(&d(b))
     })
 }
@@ -32,7 +33,7 @@ fn top(ev: &[(f64, f64)]) -> f64 {
 /// complex eigenvalue at the other end is stable: pairs that crossed the axis between the
 /// ends even when another pair crossing the other way leaves the unstable count unchanged.
 fn exchanged(lo: &End, hi: &End) -> usize {
-    let dist = |a: &(f64, f64), b: &(f64, f64)| (a.0 - b.0).hypot(a.1 - b.1);
+    let dist = |a: &(f64, f64), b: &(f64, f64)| (a.0 - b.0).powi(2) + (a.1 - b.1).powi(2);
     let one_way = |from: &End, to: &End| {
         from.ev
             .iter()
@@ -91,28 +92,45 @@ impl<const N: usize> Scan<'_, N> {
         })
     }
 
-    /// The crossings between `lo` and `hi` by Newton on the Hopf system ([`hopf::newton`])
-    /// from the complex eigenpairs nearest the axis at the interval's midpoint (as many as the
-    /// count changed, and two more); each root is re-checked by fresh eigenvalues 1e-6 V
-    /// either side, which also give its direction. `false` (nothing recorded) unless the
-    /// roots' directions add up to the change of the unstable count, and there are roots:
-    /// then the caller falls back to bisection. `exchanged` ([`exchanged`]) widens the search
-    /// when pairs crossed in both directions.
+    /// The crossings between `lo` and `hi` by Newton on the Hopf system ([`hopf::newton`]):
+    /// one run for each complex eigenvalue (Im > 0) of either end whose nearest complex
+    /// eigenvalue at the other end lies on the other side of the axis, started from the end
+    /// where that pair is nearer the axis (its eigenvalue there, eigenvector by inverse
+    /// iteration). Each root's direction is the sign of the real part's speed derivative
+    /// there, which the last Newton step gives. `false` (nothing recorded) unless the roots in
+    /// `[lo, hi]` add up to the change of the unstable count and there are roots: then the
+    /// caller falls back to bisection. `exchanged` ([`exchanged`]) pairs crossed both ways.
     fn by_newton(&mut self, lo: &End, hi: &End, exchanged: usize) -> bool {
         let change = hi.count as i64 - lo.count as i64;
         let sys = self.sys;
-        let mid = 0.5 * (lo.v + hi.v);
-        self.evaluations += 1;
-        let Some(sp) = spectrum_at(&sys.jacobian(mid), mid) else {
+        // (eigenvalue at lo, eigenvalue at hi) of each pair that changed side
+        let mut pairs: Vec<((f64, f64), (f64, f64))> = Vec::new();
+        for (from, to, from_lo) in [(lo, hi, true), (hi, lo, false)] {
+            for z in from.ev.iter().filter(|z| z.1 > 0.0) {
+                let Some(w) = nearest(&to.ev, *z) else {
+                    continue;
+                };
+                if (z.0 > 0.0) == (w.0 > 0.0) {
+                    continue;
+                }
+                let pair = if from_lo { (*z, w) } else { (w, *z) };
+                if !pairs.contains(&pair) {
+                    pairs.push(pair);
+                }
+            }
+        }
+        if pairs.len() < (change.unsigned_abs() as usize).max(exchanged) {
             return false;
-        };
-        let mut candidates: Vec<&EigenPair> = sp.pairs.iter().filter(|p| p.im > 0.0).collect();
-        candidates.sort_by(|p, q| p.re.abs().total_cmp(&q.re.abs()));
+        }
         let tol = self.opts.rel_tol.max(1e-14);
         let mut found: Vec<Crossing> = Vec::new();
-        let wanted = (change.unsigned_abs() as usize).max(exchanged) + 2;
-        for p in candidates.iter().take(wanted) {
-            let Some(h) = hopf::newton(sys, mid, p.im, &p.vector, tol) else {
+        for (a, b) in pairs {
+            let (v0, z0) = if a.0.abs() <= b.0.abs() {
+                (lo.v, a)
+            } else {
+                (hi.v, b)
+            };
+            let Some(h) = hopf::newton(sys, v0, z0, tol) else {
                 continue;
             };
             let f_hz = h.omega / (2.0 * std::f64::consts::PI);
@@ -123,23 +141,7 @@ impl<const N: usize> Scan<'_, N> {
             if seen || h.speed < lo.v || h.speed > hi.v {
                 continue;
             }
-            let delta = 1e-6 * h.speed;
-            let side = |v: f64| {
-                eigenvalues(&sys.jacobian(v))
-                    .and_then(|ev| nearest(&ev, (0.0, h.omega)))
-                    .map_or(f64::NAN, |z| z.0)
-            };
-            let (below, above) = (side(h.speed - delta), side(h.speed + delta));
-            self.evaluations += 2;
-            if below.is_nan() || above.is_nan() || below.signum() == above.signum() {
-                continue;
-            }
-            found.push(Crossing::new(
-                h.speed,
-                h.omega,
-                above > 0.0,
-                2.0 * h.last_step,
-            ));
+            found.push(Crossing::new(h.speed, h.omega, h.onset, 2.0 * h.last_step));
         }
         let net: i64 = found
             .iter()
@@ -197,7 +199,7 @@ impl<const N: usize> Scan<'_, N> {
         let onset = hi.count > lo.count;
         let old_side = |z: &(f64, f64)| z.1 > 0.0 && if onset { z.0 <= 0.0 } else { z.0 > 0.0 };
         let new_side = |z: &(f64, f64)| z.1 > 0.0 && if onset { z.0 > 0.0 } else { z.0 <= 0.0 };
-        let dist = |a: &(f64, f64), b: &(f64, f64)| (a.0 - b.0).hypot(a.1 - b.1);
+        let dist = |a: &(f64, f64), b: &(f64, f64)| (a.0 - b.0).powi(2) + (a.1 - b.1).powi(2);
         let mut best: Option<((f64, f64), (f64, f64))> = None;
         for a in lo.ev.iter().filter(|z| old_side(z)) {
             for b in hi.ev.iter().filter(|z| new_side(z)) {
@@ -254,11 +256,57 @@ impl<const N: usize> Scan<'_, N> {
     }
 }
 
-/// The grid of the eigenvalue scan when the study does not set `grid_points`: 64 speeds,
-/// refined by `refine_turns` where the least damped pair turns near the axis. On every
-/// shipped study and on a 10×10 bogie stability map it finds the crossings the 512-point grid
-/// finds (`tests/vehicle.rs`), for an eighth of the eigenvalue decompositions.
+/// The grid of the eigenvalue scan when the study does not set `grid_points`: 64 speeds, of
+/// which the scan visits those `stride` allows (every one wherever an eigenvalue
+/// approaches the axis), refined by `refine_turns` where the least damped pair turns near the
+/// axis. On every shipped study and on a 7×7 bogie stability map it finds the crossings the
+/// 512-point grid finds (`tests/vehicle.rs`).
 pub const EIGEN_GRID_POINTS: usize = 64;
+
+/// Most grid steps of [`EIGEN_GRID_POINTS`] one step of the scan may span.
+const MAX_STRIDE: usize = 8;
+
+/// The fraction of its distance to the imaginary axis that an eigenvalue may be predicted to
+/// cover in one step of the scan.
+const APPROACH: f64 = 0.5;
+
+/// How many grid steps of `h` (m/s) the scan may take after `cur`, given the end `prev`
+/// before it: each eigenvalue of `cur`, with the speed derivative of its real part estimated
+/// from its nearest eigenvalue at `prev`, may be predicted to move toward the axis by at most
+/// [`APPROACH`] of its distance from it; at least 1, at most `cap`. A pair moving away from
+/// the axis, or along it, sets no limit: the steps stay short only where some eigenvalue
+/// comes near the axis, which is where the 64-point grid is needed.
+fn stride(prev: &End, cur: &End, h: f64, cap: usize) -> usize {
+    let dv = cur.v - prev.v;
+    let dist = |a: &(f64, f64), b: &(f64, f64)| (a.0 - b.0).powi(2) + (a.1 - b.1).powi(2);
+    let mut steps = cap as f64;
+    // the eigenvalues with Im < 0 mirror those with Im > 0
+    for z in cur.ev.iter().filter(|z| z.1 >= 0.0) {
+        let Some(p) = prev
+            .ev
+            .iter()
+            .min_by(|a, b| dist(a, z).total_cmp(&dist(b, z)))
+        else {
+            return 1;
+        };
+        let slope = (z.0 - p.0) / dv;
+        let toward = if z.0 > 0.0 {
+            -slope
+        } else if z.0 < 0.0 {
+            slope
+        } else {
+            slope.abs()
+        };
+        if toward > 0.0 {
+            steps = steps.min(APPROACH * z.0.abs() / (toward * h));
+        }
+    }
+    if steps.is_finite() && steps >= 1.0 {
+        (steps as usize).min(cap)
+    } else {
+        1
+    }
+}
 
 /// Subdivisions of an interval flagged by [`refine_turns`].
 const TURN_SUBDIVISIONS: usize = 8;
@@ -312,9 +360,10 @@ fn refine_turns(ends: &[End]) -> Vec<f64> {
 }
 
 /// Every crossing of the imaginary axis by a complex pair, for any state size: the count of
-/// unstable complex eigenvalues on the grid (refined where the least damped pair turns near
-/// the axis, [`refine_turns`]). Where the count changes between two grid speeds the crossings
-/// are located by Newton on the Hopf system ([`hopf::newton`]); should their directions not
+/// unstable complex eigenvalues on the grid (on the default grid only at the speeds [`stride`]
+/// allows, refined where the least damped pair turns near the axis, [`refine_turns`]; a
+/// study's `grid_points` are all visited). Where the count changes between two speeds the
+/// crossings are located by Newton on the Hopf system ([`hopf::newton`]); should their directions not
 /// account for the change, the interval is bisected on the count until each part holds one
 /// crossing (two bogies give pairs crossing fractions of a m/s apart), which is then located
 /// by Brent's method on the tracked eigenvalue. Two crossings in opposite directions within one
@@ -334,9 +383,25 @@ pub(super) fn eigen_scan<const N: usize>(
         evaluations: 0,
         crossings: Vec::new(),
     };
-    let mut ends = (0..n)
-        .map(|i| scan.end(speed(i)))
-        .collect::<Result<Vec<End>, LinearError>>()?;
+    let mut ends = if opts.grid_points.is_some() {
+        (0..n)
+            .map(|i| scan.end(speed(i)))
+            .collect::<Result<Vec<End>, LinearError>>()?
+    } else {
+        // the default grid, stepping over the grid speeds where no eigenvalue nears the axis
+        let h = speed(1) - speed(0);
+        let mut ends = vec![scan.end(speed(0))?];
+        let (mut i, mut k) = (0, 1);
+        while i + 1 < n {
+            let j = (i + k).min(n - 1);
+            let e = scan.end(speed(j))?;
+            let cap = (2 * k).min(MAX_STRIDE);
+            k = ends.last().map_or(1, |prev| stride(prev, &e, h, cap));
+            ends.push(e);
+            i = j;
+        }
+        ends
+    };
     let extra = refine_turns(&ends);
     if !extra.is_empty() {
         for v in extra {
@@ -400,6 +465,27 @@ mod tests {
             .map(|&v| end(v, s(v) - 1.0))
             .collect();
         assert!(refine_turns(&below).is_empty());
+    }
+
+    /// A pair 1 1/s left of the axis that moved 1 1/s toward it over the last 1 m/s may take
+    /// 0.5 m/s (five steps of 0.1 m/s); moving away from the axis, or along it, it sets no
+    /// limit (the cap); ahead of the axis by less than one step's predicted move, one step.
+    #[test]
+    fn stride_keeps_each_eigenvalue_half_its_distance_from_the_axis() {
+        let at = |v: f64, ev: Vec<(f64, f64)>| End {
+            v,
+            ev,
+            count: 0,
+            top: 0.0,
+            det_sign: 1.0,
+        };
+        let prev = at(10.0, vec![(-2.0, 1.0), (-2.0, -1.0), (-50.0, 0.0)]);
+        let toward = at(11.0, vec![(-1.0, 1.0), (-1.0, -1.0), (-50.0, 0.0)]);
+        assert_eq!(stride(&prev, &toward, 0.1, 8), 5);
+        let away = at(11.0, vec![(-3.0, 1.5), (-3.0, -1.5), (-50.0, 0.0)]);
+        assert_eq!(stride(&prev, &away, 0.1, 8), 8);
+        let close = at(11.0, vec![(-0.01, 1.0), (-0.01, -1.0), (-50.0, 0.0)]);
+        assert_eq!(stride(&prev, &close, 0.1, 8), 1);
     }
 
     /// The sign of det J read from the eigenvalues equals the sign of the LU determinant, on

@@ -17,13 +17,15 @@
 //!
 //! **Any number of states** (vehicles, docs/model.md §11). With more states the characteristic
 //! polynomial is too ill-conditioned to use, so the scan computes the eigenvalues of $J(V)$
-//! on a grid ([`EIGEN_GRID_POINTS`] speeds by default, refined where the least damped pair
-//! turns above the axis between grid speeds) and looks at every grid step where the count of
-//! unstable complex eigenvalues changes, or where an unstable pair's nearest neighbour at the
-//! other end is stable (one mode recovering while another sets in). There the crossings are
-//! located by Newton's method on the Hopf system $J(V)v = iωv$ (`hopf`) from the pairs
-//! nearest the axis at the step's midpoint, each re-checked by fresh eigenvalues 1e-6 V either
-//! side (which give its direction). When the directions found do not add up to the change of
+//! on a grid ([`EIGEN_GRID_POINTS`] speeds by default, of which it skips up to seven in a row
+//! where every eigenvalue's real part, extrapolated from the last step, stays at least half
+//! its distance from the axis; refined where the least damped pair turns above the axis
+//! between grid speeds) and looks at every step where the count of unstable complex
+//! eigenvalues changes, or where an unstable pair's nearest neighbour at the other end is
+//! stable (one mode recovering while another sets in). There the crossings are located by
+//! Newton's method on the Hopf system $J(V)v = iωv$ (`hopf`) from each pair that changed side,
+//! started at the end where it is nearer the axis; the last Newton step gives the sign of the
+//! real part's speed derivative, the crossing's direction. When the directions found do not add up to the change of
 //! the count, the step is bisected on the count until each part holds one crossing, located by
 //! Brent's method on the real part of the tracked eigenvalue.
 

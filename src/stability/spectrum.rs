@@ -66,7 +66,9 @@ pub fn spectrum_at<const N: usize>(j: &SMatrix<f64, N, N>, speed_m_s: f64) -> Op
         return None;
     }
     let a = Mat::<f64>::from_fn(N, N, |r, c| j[(r, c)]);
-    let evd = a.eigen().ok()?;
+    let evd = a.eigen();
+    clear_upper_halves();
+    let evd = evd.ok()?;
     let s = evd.S().column_vector();
     let u = evd.U();
     let mut pairs: Vec<EigenPair> = (0..N)
@@ -80,6 +82,23 @@ pub fn spectrum_at<const N: usize>(j: &SMatrix<f64, N, N>, speed_m_s: f64) -> Op
     Some(Spectrum { speed_m_s, pairs })
 }
 
+/// Clears the upper halves of the AVX registers (`vzeroupper`) on x86-64 processors with AVX.
+///
+/// faer's eigenvector solve leaves them dirty; until they are cleared every non-VEX SSE
+/// instruction after it (the code of this crate and nalgebra's) runs about 2.5 times slower on
+/// some processors, from the false dependency on the upper halves. A no-op elsewhere.
+#[inline]
+pub(crate) fn clear_upper_halves() {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the processor has AVX (checked above), and `vzeroupper` only zeroes bits
+            // 128 and up of the vector registers, which hold no value live across this call.
+            unsafe { std::arch::x86_64::_mm256_zeroupper() }
+        }
+    }
+}
+
 /// The eigenvalues of `j` as (re, im), without vectors; `None` if not finite or QR failed
 /// (a stack routine for small fixed sizes first: balancing, Householder Hessenberg form and
 /// Francis double-shift QR; nalgebra's Schur decomposition if it does not converge, then
@@ -88,6 +107,9 @@ pub fn eigenvalues<const N: usize>(j: &SMatrix<f64, N, N>) -> Option<Vec<(f64, f
     if !j.iter().all(|x| x.is_finite()) {
         return None;
     }
+    // whatever ran before may have left the vector registers' upper halves dirty (faer does),
+    // which makes the SSE code below run 2 to 3 times slower on some processors
+    clear_upper_halves();
     // balancing, Householder Hessenberg and Francis QR on a stack copy, eigenvalues only:
     // about half the time of nalgebra's Schur form below on the car's 28-state Jacobian (46
     // against 94–110 µs a matrix, small_eigen's docs), and the scan's grid is its hot loop
@@ -107,7 +129,9 @@ pub fn eigenvalues<const N: usize>(j: &SMatrix<f64, N, N>) -> Option<Vec<(f64, f
         }
     }
     let a = Mat::<f64>::from_fn(N, N, |r, c| j[(r, c)]);
-    let ev = a.eigenvalues().ok()?;
+    let ev = a.eigenvalues();
+    clear_upper_halves();
+    let ev = ev.ok()?;
     Some(ev.iter().map(|z| (z.re, z.im)).collect())
 }
 
