@@ -420,7 +420,7 @@ impl Ctx<'_> {
         m: &Motion,
         tracked: Option<&(Vec<f64>, f64, bool)>,
     ) -> bool {
-        if m.kind != here.kind || !m.kind.is_hunting() {
+        if m.kind != here.kind || !m.kind.is_hunting() || lost(here, tracked) {
             return false;
         }
         let (Some(_), Some(t1)) = (here.period_s, m.period_s) else {
@@ -435,6 +435,16 @@ impl Ctx<'_> {
     /// Returns the motion and whether it is still `here`'s attractor.
     fn step_to<const N: usize>(&self, here: &Motion, v: f64) -> (Motion, bool) {
         let tracked = self.track::<N>(here, v);
+        self.simulate_step::<N>(here, v, tracked)
+    }
+
+    /// [`Self::step_to`] with the cycle of `here` already tracked to `v` by [`Self::track`].
+    fn simulate_step<const N: usize>(
+        &self,
+        here: &Motion,
+        v: f64,
+        tracked: Option<(Vec<f64>, f64, bool)>,
+    ) -> (Motion, bool) {
         let start = match &tracked {
             Some((x, _, true)) => x.as_slice(),
             _ => here.state.as_slice(),
@@ -530,6 +540,14 @@ fn slow_decay(excursions: &[f64]) -> Option<String> {
     })
 }
 
+/// Whether the cycle `here` is lost at a speed whatever a simulation there gives: `here` is a
+/// cycle (it has a period) and [`Ctx::track`] found no stable cycle of its branch there
+/// (`tracked`, `None` or unstable). [`Ctx::continues`] then keeps no motion: a motion of a cycle's
+/// kind is the same attractor only as the stable tracked cycle with its period.
+fn lost(here: &Motion, tracked: Option<&(Vec<f64>, f64, bool)>) -> bool {
+    here.period_s.is_some() && !matches!(tracked, Some((_, _, true)))
+}
+
 /// What a descent found: the motion at every speed where the attractor lives (highest
 /// first), the bracket of its death, what the motion does below in words, and that motion.
 struct Descent {
@@ -600,8 +618,19 @@ fn descend<const N: usize>(ctx: &Ctx<'_>, start: &Motion, grid: &[f64]) -> Desce
             }
             let (v, m, kept) = loop {
                 let v = (here.speed_m_s - step).max(target);
-                let (m, kept) = ctx.step_to::<N>(&here, v);
-                if kept || step <= opts.bracket {
+                let last = step <= opts.bracket;
+                let tracked = ctx.track::<N>(&here, v);
+                // a try before the last is used only when it keeps the attractor, which a
+                // cycle that tracking lost at `v` does not whatever the simulation gives
+                // (`lost`): the step is halved without simulating (the same descent and
+                // report, fewer simulations; near a fold or a Hopf point these were slow
+                // transients of up to 1 + UNSETTLED_EXTENSIONS settle times each)
+                if !last && lost(&here, tracked.as_ref()) {
+                    step *= 0.5;
+                    continue;
+                }
+                let (m, kept) = ctx.simulate_step::<N>(&here, v, tracked);
+                if kept || last {
                     break (v, m, kept);
                 }
                 step *= 0.5;
