@@ -39,6 +39,8 @@ pub struct ForceVelocity {
     len: usize,
     /// slope beyond the last knee (N s/m)
     tail: f64,
+    /// given in the blow-off form (two slopes and the knee), not as a table
+    blow_off: bool,
 }
 
 impl ForceVelocity {
@@ -60,6 +62,7 @@ impl ForceVelocity {
             force,
             len,
             tail,
+            blow_off: false,
         })
     }
 
@@ -84,7 +87,14 @@ impl ForceVelocity {
             force,
             len: 2,
             tail: slope_after,
+            blow_off: true,
         })
+    }
+
+    /// The blow-off force (N) and the slope after it (N s/m) of a curve given in the blow-off
+    /// form ([`Self::blow_off`]); `None` for a table.
+    pub fn blow_off_form(&self) -> Option<(f64, f64)> {
+        self.blow_off.then(|| (self.force[1], self.tail))
     }
 
     /// The slope at zero $g'(0)$ (N s/m): the damping the linear analysis uses.

@@ -122,6 +122,39 @@ impl Section<'_> {
         }
     }
 
+    /// the dampers' force–velocity curves, where given (`yaw`: the secondary's yaw damper too):
+    /// a blow-off's two numbers under their sweep keys, a table's points as text
+    fn curves(&mut self, c: &crate::model::DamperCurves, yaw: bool) {
+        let mut one = |what: &str, g: Option<&crate::model::ForceVelocity>| {
+            let Some(g) = g else { return };
+            let key = format!("{what}_damper_force_velocity");
+            match g.blow_off_form() {
+                Some((force, after)) => {
+                    self.num(&format!("{key}.blow_off_force"), force, Force);
+                    self.num(&format!("{key}.slope_after"), after, Damping);
+                }
+                None => {
+                    let (points, tail) = g.points();
+                    let shown: Vec<String> = points
+                        .iter()
+                        .skip(1)
+                        .map(|(v, f)| format!("[{} m/s, {} N]", si(*v), si(*f)))
+                        .collect();
+                    self.text(
+                        &key,
+                        format!("{}, then {} N s/m", shown.join(", "), si(tail)),
+                    );
+                }
+            }
+        };
+        one("lateral", c.lateral.as_ref());
+        one("longitudinal", c.longitudinal.as_ref());
+        one("vertical", c.vertical.as_ref());
+        if yaw {
+            one("yaw", c.yaw.as_ref());
+        }
+    }
+
     /// the bump stop's keys
     fn bump_stop(&mut self, stop: Option<&crate::model::StopSpec>) {
         let Some(stop) = stop else {
@@ -196,6 +229,7 @@ pub fn entries(p: &Plan) -> Vec<Entry> {
     s.num("vertical_damping", p.primary_vertical.damping, Damping);
     s.num("height", p.primary_vertical.height, Length);
     s.series(&p.primary_vertical.series, false);
+    s.curves(&p.primary_vertical.curves, false);
     s.bump_stop(p.primary_vertical.bump_stop.as_ref());
     vehicle(&mut out, &p.vehicle);
     contact(&mut out, p);
@@ -327,6 +361,7 @@ fn secondary(out: &mut Vec<Entry>, c: &Secondary) {
     s.num("vertical_half_spacing", c.vertical_half_spacing, Length);
     s.num("height", c.height, Length);
     s.series(&c.series, true);
+    s.curves(&c.curves, true);
     s.bump_stop(c.bump_stop.as_ref());
 }
 

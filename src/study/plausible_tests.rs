@@ -129,3 +129,67 @@ fn the_docs_show_every_range() {
         assert!(pages.lines().any(|l| l == row), "not in the docs: {row}");
     }
 }
+
+/// A damper's blow-off is listed under its sweep keys, so its plausible range is warned on; a
+/// table's points are listed as text and not checked against the blow-off's range.
+#[test]
+fn a_blow_off_outside_its_plausible_range_is_warned_on() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("studies");
+    let text = std::fs::read_to_string(dir.join("passenger-car-s1002.toml")).expect("study");
+    let shipped = "blow_off_force = \"3000 N\", slope_after = \"20 kN s/m\"";
+    assert!(text.contains(shipped));
+    let key = "secondary.yaw_damper_force_velocity";
+    let plan = crate::study::parse_in(&text, "shipped", Some(&dir)).expect("valid");
+    let listed = entries(&plan);
+    let number = |k: &str| {
+        listed
+            .iter()
+            .find(|e| e.key == k)
+            .map(|e| e.shown.clone())
+            .unwrap_or_else(|| panic!("{k} not listed"))
+    };
+    assert_eq!(
+        number(&format!("{key}.blow_off_force")),
+        crate::study::entries::Shown::Number(3000.0, Force)
+    );
+    assert_eq!(
+        number(&format!("{key}.slope_after")),
+        crate::study::entries::Shown::Number(2e4, Damping)
+    );
+    let low = text.replace(
+        shipped,
+        "blow_off_force = \"50 N\", slope_after = \"5 N s/m\"",
+    );
+    let plan = crate::study::parse_in(&low, "low", Some(&dir)).expect("valid");
+    let keys: Vec<&str> = plan.warnings.iter().map(|w| w.key.as_str()).collect();
+    assert_eq!(
+        keys,
+        [
+            format!("{key}.blow_off_force"),
+            format!("{key}.slope_after")
+        ]
+    );
+    let table = text.replace(
+        shipped,
+        "points = [[\"0.01 m/s\", \"50 N\"], [\"0.1 m/s\", \"60 N\"]]",
+    );
+    let plan = crate::study::parse_in(&table, "table", Some(&dir)).expect("valid");
+    assert!(plan.warnings.is_empty(), "{:?}", plan.warnings);
+    let shown = entries(&plan)
+        .into_iter()
+        .find(|e| e.key == key)
+        .map(|e| e.shown.to_string());
+    // the table's forces are scaled to the study's yaw damping at zero
+    let c = match number("secondary.yaw_damping") {
+        crate::study::entries::Shown::Number(c, _) => c,
+        other => panic!("{other:?}"),
+    };
+    let factor = c / (50.0 / 0.01);
+    let expected = format!(
+        "[0.01 m/s, {} N], [0.1 m/s, {} N], then {} N s/m",
+        si(50.0 * factor),
+        si(60.0 * factor),
+        si((60.0 - 50.0) / (0.1 - 0.01) * factor)
+    );
+    assert_eq!(shown.as_deref(), Some(expected.as_str()));
+}
