@@ -268,10 +268,12 @@ fn combine<const R: usize, const CC: usize>(
     if R * CC < 64 {
         // small blocks (the wheelset's x and Φ, every state vector): one pass per term is
         // faster than the dispatch below
+        // on slices, not nalgebra's strided iterators, so that the loop vectorises (the same
+        // operations in the same order: bit-identical)
         let mut s = *y;
         for (aj, kj) in a.iter().zip(k) {
             let c = h * aj;
-            for (si, ki) in s.iter_mut().zip(kj.iter()) {
+            for (si, ki) in s.as_mut_slice().iter_mut().zip(kj.as_slice()) {
                 *si += c * ki;
             }
         }
@@ -319,7 +321,7 @@ fn scaled_rms<const R: usize, const CC: usize>(
     tol: &Tolerances,
 ) -> f64 {
     let mut sum = 0.0;
-    for ((ei, a), b) in e.iter().zip(y0.iter()).zip(y1.iter()) {
+    for ((ei, a), b) in e.as_slice().iter().zip(y0.as_slice()).zip(y1.as_slice()) {
         let r = ei / (tol.atol + tol.rtol * a.abs().max(b.abs()));
         sum += r * r;
     }
