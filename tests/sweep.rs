@@ -416,3 +416,75 @@ fn cancelled_sweep_keeps_its_points_and_resumes_to_the_same_csv() {
         sweep::sweep_csv(&s.spec.axes, &fresh.rows)
     );
 }
+
+/// `attractors = true`: a sweep point's V_NL is the full attractor search's, equal to that of
+/// `critspeed attractors` on the study at the point's values, and never above the fast form's
+/// (continuation and descents), which misses attractors no continued branch leads to. The
+/// point is a draw of `studies/dtu-bogie-uncertainty.toml` (evaluation 25 of N = 4) on which
+/// the fast form gave 203.67 m/s against the search's 85.95 m/s when measured.
+#[test]
+fn a_sweep_point_with_attractors_takes_the_searchs_v_nl() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/studies");
+    let path = format!("{dir}/dtu-cooperrider-bogie.toml");
+    let mut text = std::fs::read_to_string(&path).expect("studies/dtu-cooperrider-bogie.toml");
+    for (shipped, drawn) in [
+        (
+            "lateral_stiffness = \"1.823 MN/m\"",
+            "lateral_stiffness = 2084839.7464096546",
+        ),
+        (
+            "longitudinal_stiffness = \"3.646 MN/m\"",
+            "longitudinal_stiffness = 3187148.364675045",
+        ),
+        (
+            "lateral_stiffness = \"182.3 kN/m\"",
+            "lateral_stiffness = 183993.1971603632",
+        ),
+        (
+            "lateral_damping = \"29.2 kN s/m\"",
+            "lateral_damping = 33119.708836078644",
+        ),
+        ("friction = 0.15", "friction = 0.1626127016544342"),
+        (
+            "yaw_damping = \"166.669 kN s/m\"",
+            "yaw_damping = 160528.08887605072",
+        ),
+    ] {
+        assert_eq!(text.matches(shipped).count(), 1, "{shipped}");
+        text = text.replace(shipped, drawn);
+    }
+    let rate = 160528.08887605072;
+    let with = |attractors: bool| {
+        format!(
+            "{text}\n[sweep]\naxes = [ {{ key = \"secondary.yaw_damping\", from = {rate}, to = {rate}, count = 1 }} ]\ncompute = [\"nonlinear\"]\nattractors = {attractors}\n"
+        )
+    };
+    let opts = SweepOptions {
+        threads: Some(1),
+        shard: Shard::ALL,
+        records: None,
+    };
+    let v_nl = |attractors: bool| {
+        let s = SweepStudy::parse_in(
+            &with(attractors),
+            "draw 25",
+            Some(std::path::Path::new(dir)),
+        )
+        .expect("study");
+        assert_eq!(s.spec.attractors, attractors);
+        let res = sweep::run(&s, &opts, None).expect("sweep");
+        assert_eq!(res.rows.len(), 1);
+        res.rows[0].nonlinear_m_s.expect("V_NL")
+    };
+    let (search, fast) = (v_nl(true), v_nl(false));
+    // the study at the point's values: the sweep's one value is the study's own
+    let plan = study::parse_in(&text, "draw 25", Some(std::path::Path::new(dir))).expect("plan");
+    let prepared = critspeed::api::Prepared::new(plan).expect("model");
+    let (_, b) = critspeed::api::attractors(&prepared, Default::default(), None).expect("search");
+    let alone = b.nonlinear_critical_speed.expect("V_NL").0;
+    assert_eq!(search, alone, "the sweep point's search and `attractors`");
+    assert!(
+        search <= fast,
+        "search {search} m/s above the fast form's {fast} m/s"
+    );
+}

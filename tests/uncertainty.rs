@@ -27,6 +27,7 @@ fn spec(d: usize, n: usize, method: Method, (lo, hi): (f64, f64)) -> Uncertainty
         },
         indices: true,
         operating_speed: None,
+        attractors: false,
         parameters: (0..d)
             .map(|i| Parameter {
                 key: format!("x{}", i + 1),

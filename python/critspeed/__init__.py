@@ -309,6 +309,7 @@ def uncertainty(
 
     Keys as the command prints them: ``"study"``, ``"samples"`` (evaluations run),
     ``"base_samples"`` (N), ``"method"``, ``"seed"``, ``"operating_speed_m_s"`` (when set),
+    ``"nonlinear_method"`` (``"search"`` or ``"descents"``, when V_NL is computed),
     ``"parameters"`` (``"key"``, ``"distribution"``, ``"unit"``) and ``"quantities"``: one
     dict per computed speed with ``"name"`` (``"kalker"``, ``"hopf"``, ``"nonlinear"``),
     ``"mean_m_s"``, ``"std_m_s"``, ``"quantiles_m_s"`` (keys ``"0.05"``, ``"0.5"``,

@@ -309,6 +309,10 @@ fn summary(study: &SweepStudy, rows: &[PointRecord]) -> String {
     ] {
         if on {
             s += &format!("  {name} {}\n", result_line(rows, which));
+            if which == Computed::Nonlinear {
+                let how = crate::sweep::nonlinear_method(study.spec.attractors).1;
+                s += &format!("    V_NL {how}\n");
+            }
         }
     }
     s

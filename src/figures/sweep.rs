@@ -320,6 +320,7 @@ mod tests {
                 nonlinear: false,
             },
             operating_speed: Some(50.0),
+            attractors: false,
         }
     }
 

@@ -487,6 +487,10 @@ pub struct SweepSection {
     /// speed the vehicle runs at, drawn as the stable/unstable boundary on the plots
     #[serde(default)]
     pub operating_speed: Option<Quantity>,
+    /// V_NL by the full attractor search at every point instead of the fast form (continuation
+    /// and descents; default false)
+    #[serde(default)]
+    pub attractors: Option<bool>,
 }
 
 /// One axis of a sweep.
@@ -568,6 +572,10 @@ pub struct UncertaintySection {
     /// speed whose probability of lying above each critical speed is reported
     #[serde(default)]
     pub operating_speed: Option<Quantity>,
+    /// V_NL by the full attractor search at every evaluation instead of the fast form
+    /// (continuation and descents; default false)
+    #[serde(default)]
+    pub attractors: Option<bool>,
     /// the uncertain parameters (at least one)
     #[serde(default)]
     pub parameter: Vec<UncertainParameterSection>,

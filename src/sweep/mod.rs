@@ -23,7 +23,7 @@ use rayon::prelude::*;
 pub use point::{Computed, Outcome, PointRecord};
 pub use records::{read_csv, read_records, sweep_csv, SweepCsv};
 pub use shard::Shard;
-pub use spec::{Axis, Compute, Spacing, SweepSpec, SWEEP_KEYS};
+pub use spec::{nonlinear_method, Axis, Compute, Spacing, SweepSpec, SWEEP_KEYS};
 pub use study::{Spares, SweepStudy};
 
 /// Why a sweep could not run (failed points are not errors: they are recorded).

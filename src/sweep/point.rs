@@ -365,24 +365,27 @@ fn fill(study: &SweepStudy, rec: &mut PointRecord, spares: &Spares) {
         record(rec, Computed::Hopf, found, v_max);
     }
     if c.nonlinear {
-        nonlinear(rec, &plan, &model);
+        nonlinear(rec, &plan, &model, study.spec.attractors);
     }
     if study.reuses_table(&plan) {
         spares.put(model);
     }
 }
 
-/// V_NL by continuation from the Hopf point. With no Hopf point in the range V_NL is not
-/// computed (`no_hopf`, not a failure) and stays unknown: V_H > v_max does not bound V_NL, since
-/// a subcritical branch born above v_max can fold back below it, where a continuation confined
-/// to the range never looks.
-fn nonlinear(rec: &mut PointRecord, plan: &crate::study::Plan, model: &Vehicle) {
+/// V_NL by continuation from the Hopf point, with the descents or (`search`) the whole
+/// attractor search beside it. With no Hopf point in the range V_NL is not computed (`no_hopf`,
+/// not a failure) and stays unknown: V_H > v_max does not bound V_NL, since a subcritical branch
+/// born above v_max can fold back below it, where a continuation confined to the range never
+/// looks.
+fn nonlinear(rec: &mut PointRecord, plan: &crate::study::Plan, model: &Vehicle, search: bool) {
     // the points are the parallel work; each continuation runs serially (same results)
     let opts = bifurcation::BifurcationOptions {
         parallel: false,
         ..plan.bifurcation_options()
     };
-    match bifurcation::analyse(&plan.name, model, &opts).map(|r| with_descents(plan, model, r)) {
+    match bifurcation::analyse(&plan.name, model, &opts)
+        .map(|r| with_search(plan, model, r, search))
+    {
         Ok(r) => match (r.nonlinear_critical_speed, r.hopf) {
             (Some((v, located)), _) => {
                 (rec.nonlinear_m_s, rec.nonlinear_located) = (Some(v), Some(located))
@@ -397,26 +400,27 @@ fn nonlinear(rec: &mut PointRecord, plan: &crate::study::Plan, model: &Vehicle) 
     }
 }
 
-/// The sweep's V_NL is the analysis' (docs/model.md §9) in its fast form: the continuation with
-/// branch switching, and the descent by simulation from each of its lowest stable cycles
-/// (followed through any jump to another attractor until it dies), without the search's grid
-/// of initial states; the lower of the two.
-fn with_descents(
+/// The sweep's V_NL is the analysis' (docs/model.md §9): by default in its fast form, the
+/// continuation with branch switching and the descent by simulation from each of its lowest
+/// stable cycles (followed through any jump to another attractor until it dies), without the
+/// search's grid of initial states; with `search` (`attractors = true`) the whole attractor
+/// search of `critspeed attractors` with the study's `[attractors]` settings. The lower of the
+/// continuation's and the simulations' V_NL.
+fn with_search(
     plan: &crate::study::Plan,
     model: &Vehicle,
     mut r: bifurcation::BifurcationReport,
+    search: bool,
 ) -> bifurcation::BifurcationReport {
     let bo = plan.bifurcation_options();
-    let mut opts = plan
-        .attractors
-        .clone()
-        .unwrap_or_default()
-        .options(
-            bo.speed_range,
-            r.hopf.map(|h| h.speed_m_s),
-            bo.geometry_limit,
-        )
-        .descents_only();
+    let mut opts = plan.attractors.clone().unwrap_or_default().options(
+        bo.speed_range,
+        r.hopf.map(|h| h.speed_m_s),
+        bo.geometry_limit,
+    );
+    if !search {
+        opts = opts.descents_only();
+    }
     opts.parallel = false;
     if let Ok(s) = crate::attractors::search(&plan.name, model, &opts, Some(&r)) {
         crate::reconcile::combine(&mut r, &s);

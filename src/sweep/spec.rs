@@ -253,6 +253,27 @@ pub struct SweepSpec {
     pub compute: Compute,
     /// operating speed (m/s), if given
     pub operating_speed: Option<f64>,
+    /// V_NL by the full attractor search (`attractors = true`) instead of the fast form
+    /// (continuation with branch switching and the descents)
+    pub attractors: bool,
+}
+
+/// How a sweep point's or an uncertainty evaluation's V_NL is found: `"descents"` (the fast form)
+/// or `"search"` (`attractors = true`), with the words the summaries print.
+pub fn nonlinear_method(search: bool) -> (&'static str, &'static str) {
+    if search {
+        (
+            "search",
+            "by the continuation and the full attractor search at every point",
+        )
+    } else {
+        (
+            "descents",
+            "by the continuation and the descents from its lowest stable cycles (the fast form: \
+             an attractor that no continued branch leads to is missed; attractors = true runs \
+             the full search)",
+        )
+    }
 }
 
 impl SweepSpec {
@@ -449,6 +470,7 @@ pub fn resolve(s: &SweepSection) -> Result<SweepSpec, SweepError> {
         axes,
         compute: resolve_compute(s.compute.as_deref())?,
         operating_speed,
+        attractors: s.attractors.unwrap_or(false),
     })
 }
 
@@ -508,6 +530,7 @@ mod tests {
                 nonlinear: false,
             },
             operating_speed: None,
+            attractors: false,
         };
         assert_eq!(spec.len(), 6);
         assert_eq!(spec.values(0), vec![1.0, 10.0]);

@@ -115,6 +115,7 @@ impl UncertaintyStudy {
             axes: spec::axes(&spec, &design),
             compute: spec.compute,
             operating_speed: spec.operating_speed,
+            attractors: spec.attractors,
         };
         let tag = format!("uncertainty {spec:?}");
         let sweep = SweepStudy::with_design(text, origin, folder, sweep_spec, design, &tag)

@@ -105,6 +105,10 @@ pub struct UncertaintyReport {
     /// the operating speed (m/s), when set
     #[serde(skip_serializing_if = "Option::is_none")]
     pub operating_speed_m_s: Option<f64>,
+    /// how V_NL was found, when computed: "descents" (the fast form) or "search" (the full
+    /// attractor search, `attractors = true`)
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nonlinear_method: Option<String>,
     /// the uncertain parameters
     pub parameters: Vec<ParameterReport>,
     /// one entry per computed speed
@@ -169,6 +173,11 @@ pub fn report(study: &UncertaintyStudy, rows: &[PointRecord]) -> UncertaintyRepo
         method: spec.method.name().into(),
         seed: spec.seed,
         operating_speed_m_s: spec.operating_speed,
+        nonlinear_method: spec.compute.nonlinear.then(|| {
+            crate::sweep::nonlinear_method(spec.attractors)
+                .0
+                .to_string()
+        }),
         parameters: spec
             .parameters
             .iter()
