@@ -488,3 +488,33 @@ fn a_sweep_point_with_attractors_takes_the_searchs_v_nl() {
         "search {search} m/s above the fast form's {fast} m/s"
     );
 }
+
+/// Without an `attractors` key a sweep of a bogie or a car finds V_NL by the full search and a
+/// sweep of a wheelset by the fast form; the key overrides either; records of one method do not
+/// resume into the other (their fingerprints differ), while a wheelset's fast-form fingerprint
+/// is the same with or without the key.
+#[test]
+fn a_sweeps_vnl_method_defaults_by_vehicle_and_enters_the_fingerprint() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/studies");
+    let parse = |file: &str, attractors: Option<bool>| {
+        let text = std::fs::read_to_string(format!("{dir}/{file}")).expect("study");
+        let key = attractors.map_or(String::new(), |a| format!("attractors = {a}\n"));
+        let text = format!(
+            "{text}\n[sweep]\naxes = [ {{ key = \"contact.friction\", from = 0.1, to = 0.2, count = 2 }} ]\ncompute = [\"nonlinear\"]\n{key}"
+        );
+        SweepStudy::parse_in(&text, file, Some(std::path::Path::new(dir))).expect(file)
+    };
+    for (file, search) in [
+        ("seed-hunting.toml", false),
+        ("dtu-cooperrider-bogie.toml", true),
+        ("dtu-cooperrider-car.toml", true),
+    ] {
+        let default = parse(file, None);
+        assert_eq!(default.spec.attractors, search, "{file}");
+        let same = parse(file, Some(search));
+        let other = parse(file, Some(!search));
+        assert_eq!(other.spec.attractors, !search, "{file}");
+        assert_eq!(default.fingerprint, same.fingerprint, "{file}");
+        assert_ne!(default.fingerprint, other.fingerprint, "{file}");
+    }
+}

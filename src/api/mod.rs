@@ -172,12 +172,7 @@ pub fn search(
     cancel: Cancel<'_>,
     progress: Option<&(dyn Fn(&str) + Sync)>,
 ) -> Result<crate::attractors::AttractorReport, Failure> {
-    let bo = p.plan.bifurcation_options();
-    let opts = p.plan.attractors.clone().unwrap_or_default().options(
-        bo.speed_range,
-        b.hopf.map(|h| h.speed_m_s),
-        bo.geometry_limit,
-    );
+    let opts = p.plan.attractor_options(b.hopf.map(|h| h.speed_m_s));
     let r = crate::attractors::search_with_hooks(
         &p.plan.name,
         &p.model,

@@ -751,6 +751,18 @@ impl Plan {
             })
     }
 
+    /// The attractor search's options: the study's `[attractors]` section, or its defaults, over
+    /// the bifurcation speed range and amplitude bound, its default grid around the Hopf speed
+    /// `v_h` (when known). The one place the commands, the API, the sweep's V_NL and the trade's
+    /// settlement take them from.
+    pub fn attractor_options(&self, v_h: Option<f64>) -> crate::attractors::AttractorOptions {
+        let bo = self.bifurcation_options();
+        self.attractors
+            .clone()
+            .unwrap_or_default()
+            .options(bo.speed_range, v_h, bo.geometry_limit)
+    }
+
     /// The geometry table specification of this plan.
     pub fn table_spec(&self) -> TableSpec {
         TableSpec {

@@ -376,16 +376,18 @@ fn fill(study: &SweepStudy, rec: &mut PointRecord, spares: &Spares) {
 /// attractor search beside it. With no Hopf point in the range V_NL is not computed (`no_hopf`,
 /// not a failure) and stays unknown: V_H > v_max does not bound V_NL, since a subcritical branch
 /// born above v_max can fold back below it, where a continuation confined to the range never
-/// looks.
+/// looks. A search that fails leaves V_NL missing, with the reason: the continuation's V_NL
+/// alone is not the method the sweep promised.
 fn nonlinear(rec: &mut PointRecord, plan: &crate::study::Plan, model: &Vehicle, search: bool) {
     // the points are the parallel work; each continuation runs serially (same results)
     let opts = bifurcation::BifurcationOptions {
         parallel: false,
         ..plan.bifurcation_options()
     };
-    match bifurcation::analyse(&plan.name, model, &opts)
-        .map(|r| with_search(plan, model, r, search))
-    {
+    let r = bifurcation::analyse(&plan.name, model, &opts)
+        .map_err(|e| e.to_string())
+        .and_then(|r| with_search(plan, model, r, search));
+    match r {
         Ok(r) => match (r.nonlinear_critical_speed, r.hopf) {
             (Some((v, located)), _) => {
                 (rec.nonlinear_m_s, rec.nonlinear_located) = (Some(v), Some(located))
@@ -400,32 +402,32 @@ fn nonlinear(rec: &mut PointRecord, plan: &crate::study::Plan, model: &Vehicle, 
     }
 }
 
-/// The sweep's V_NL is the analysis' (docs/model.md §9): by default in its fast form, the
-/// continuation with branch switching and the descent by simulation from each of its lowest
-/// stable cycles (followed through any jump to another attractor until it dies), without the
-/// search's grid of initial states; with `search` (`attractors = true`) the whole attractor
-/// search of `critspeed attractors` with the study's `[attractors]` settings. The lower of the
-/// continuation's and the simulations' V_NL.
+/// The sweep's V_NL is the analysis' (docs/model.md §9): with `search` (`attractors = true`,
+/// the default for a bogie or a car) the whole attractor search of `critspeed attractors` with
+/// the study's `[attractors]` settings; else its fast form, the continuation with branch
+/// switching and the descent by simulation from each of its lowest stable cycles (followed
+/// through any jump to another attractor until it dies), without the search's grid of initial
+/// states. The lower of the continuation's and the simulations' V_NL.
 fn with_search(
     plan: &crate::study::Plan,
     model: &Vehicle,
     mut r: bifurcation::BifurcationReport,
     search: bool,
-) -> bifurcation::BifurcationReport {
-    let bo = plan.bifurcation_options();
-    let mut opts = plan.attractors.clone().unwrap_or_default().options(
-        bo.speed_range,
-        r.hopf.map(|h| h.speed_m_s),
-        bo.geometry_limit,
-    );
+) -> Result<bifurcation::BifurcationReport, String> {
+    let mut opts = plan.attractor_options(r.hopf.map(|h| h.speed_m_s));
     if !search {
         opts = opts.descents_only();
     }
     opts.parallel = false;
-    if let Ok(s) = crate::attractors::search(&plan.name, model, &opts, Some(&r)) {
-        crate::reconcile::combine(&mut r, &s);
-    }
-    r
+    let what = if search {
+        "attractor search"
+    } else {
+        "descents"
+    };
+    let s = crate::attractors::search(&plan.name, model, &opts, Some(&r))
+        .map_err(|e| format!("{what}: {e}"))?;
+    crate::reconcile::combine(&mut r, &s);
+    Ok(r)
 }
 
 #[cfg(test)]

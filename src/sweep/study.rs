@@ -6,7 +6,7 @@ use crate::model::Vehicle;
 use crate::study::schema::{Quantity, StudyFile};
 use crate::study::{self, Plan};
 
-use super::spec::{resolve, Axis, SweepSpec, SWEEP_KEYS};
+use super::spec::{resolve, search_by_default, Axis, SweepSpec, SWEEP_KEYS};
 use super::SweepError;
 
 /// A study with its sweep: the base plan and model, and the means to make each point's plan.
@@ -144,11 +144,11 @@ impl SweepStudy {
         origin: &str,
         folder: Option<&std::path::Path>,
     ) -> Result<Self, SweepError> {
-        let spec = |file: &StudyFile| {
+        let spec = |file: &StudyFile, base: &Plan| {
             let section = file.sweep.as_ref().ok_or_else(|| SweepError::NoSweep {
                 path: origin.to_string(),
             })?;
-            resolve(section)
+            resolve(section, search_by_default(&base.vehicle))
         };
         let s = Self::build(text, origin, folder, spec, None)?;
         s.check_axis_values()?;
@@ -167,26 +167,26 @@ impl SweepStudy {
         design: Vec<Vec<f64>>,
         tag: &str,
     ) -> Result<Self, SweepError> {
-        let mut s = Self::build(text, origin, folder, |_| Ok(spec), Some(tag))?;
+        let mut s = Self::build(text, origin, folder, |_, _| Ok(spec), Some(tag))?;
         s.check_axis_values()?;
         s.design = Some(design.into());
         Ok(s)
     }
 
     /// The study, its table without the analysis sections, the base model and the fingerprint
-    /// (of the sweep's axes and compute, and `tag` when given); `spec` makes the axes from the
-    /// study file once the study itself is valid.
+    /// (of the sweep's axes, compute and V_NL method, and `tag` when given); `spec` makes the
+    /// axes from the study file and its plan once the study itself is valid.
     fn build(
         text: &str,
         origin: &str,
         folder: Option<&std::path::Path>,
-        spec: impl FnOnce(&StudyFile) -> Result<SweepSpec, SweepError>,
+        spec: impl FnOnce(&StudyFile, &Plan) -> Result<SweepSpec, SweepError>,
         tag: Option<&str>,
     ) -> Result<Self, SweepError> {
         let base = study::parse_in(text, origin, folder).map_err(SweepError::Study)?;
         let mut table: toml::Table = toml::from_str(text).map_err(|e| syntax(origin, &e))?;
         let file: StudyFile = toml::from_str(text).map_err(|e| syntax(origin, &e))?;
-        let spec = spec(&file)?;
+        let spec = spec(&file, &base)?;
         table.remove("sweep");
         table.remove("trade");
         table.remove("uncertainty");
@@ -194,7 +194,12 @@ impl SweepStudy {
         let base_model = base.model().map_err(|e| SweepError::Model(e.to_string()))?;
         let mut normal = base.clone();
         normal.description.clear();
+        // the method enters only when it is the search, so records of fast-form sweeps written
+        // before the key existed still resume
         let mut print = format!("{normal:?}|{:?}|{:?}", spec.axes, spec.compute);
+        if spec.attractors && spec.compute.nonlinear {
+            print.push_str("|search");
+        }
         if let Some(t) = tag {
             print = format!("{print}|{t}");
         }

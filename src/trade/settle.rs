@@ -110,13 +110,7 @@ pub fn settle(
         .iter()
         .filter(|c| one_point.is_none_or(|v| c.fold_m_s < v * (1.0 - super::intervals::DIFFER)))
         .collect();
-    let bo = plan.bifurcation_options();
-    let mut opts = plan
-        .attractors
-        .clone()
-        .unwrap_or_default()
-        .options(bo.speed_range, None, bo.geometry_limit)
-        .descents_only();
+    let mut opts = plan.attractor_options(None).descents_only();
     for c in &below {
         for (sign, side) in [(1.0, "above"), (-1.0, "below")] {
             opts.seeds.push(Seed {
