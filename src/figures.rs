@@ -264,6 +264,7 @@ fn stability_runs(cycles: &[&crate::bifurcation::CycleRow]) -> Vec<(bool, Vec<(f
 pub fn bifurcation(r: &crate::bifurcation::BifurcationReport) -> Rendered {
     let mut fig = bifurcation_figure(r);
     headroom(&mut fig);
+    hunting_regions(&mut fig, r);
     let h = diagram_height(650, &fig);
     render("bifurcation.svg", &fig, 1000, h)
 }
@@ -305,8 +306,50 @@ pub fn attractors(
         });
     }
     headroom(&mut fig);
+    hunting_regions(&mut fig, b);
     let h = diagram_height(700, &fig);
     render("attractors.svg", &fig, 1100, h)
+}
+
+/// The speeds where the vehicle can hunt, shaded under the diagram's data over its whole
+/// height (after [`headroom`] has fixed it), in the colours of the curves' regions
+/// (`curve.svg`): from V_NL to the Hopf speed the centred motion is stable to small
+/// disturbances but a large enough one starts hunting (amber), above the Hopf speed it is
+/// unstable (red). Below V_NL nothing is shaded: the diagram's V_NL is the lowest hunting
+/// motion its methods found, not a proof that none lives lower. The centred line's own
+/// legend says "linearly stable", so no part of the picture calls a speed where a motion
+/// hunts stable.
+fn hunting_regions(fig: &mut Figure, r: &crate::bifurcation::BifurcationReport) {
+    let Some((y0, y1)) = fig.y_range else {
+        return;
+    };
+    let (lo, hi) = r.speed_range;
+    let v_h = r.hopf.map(|h| h.speed_m_s).filter(|v| v.is_finite());
+    let v_nl = r
+        .nonlinear_critical_speed
+        .map(|v| v.0)
+        .filter(|v| v.is_finite());
+    let band = |a: f64, b: f64| vec![(a, y0), (b, y0), (b, y1), (a, y1)];
+    let mut shades = Vec::new();
+    if let Some(v) = v_nl {
+        let top = v_h.unwrap_or(hi).min(hi);
+        if v < top {
+            shades.push(Series {
+                name: "hunts if disturbed (V_NL–V_H)".into(),
+                points: band(v.max(lo), top),
+                style: Style::ShadeRgb(0xff, 0xb0, 0x00),
+            });
+        }
+    }
+    if let Some(v) = v_h.filter(|&v| v < hi) {
+        shades.push(Series {
+            name: "hunts (above V_H)".into(),
+            points: band(v.max(lo), hi),
+            style: Style::ShadeRgb(0xd6, 0x27, 0x28),
+        });
+    }
+    // drawn first, under the branches
+    fig.series.splice(0..0, shades);
 }
 
 /// The canvas height of a diagram: `base` up to 8 legend entries, 32 px more for each further
@@ -406,12 +449,12 @@ fn bifurcation_figure(r: &crate::bifurcation::BifurcationReport) -> Figure {
     match r.hopf {
         Some(h) => {
             fig.series.push(centred(
-                "centred: stable",
+                "centred: linearly stable",
                 vec![(lo, 0.0), (h.speed_m_s, 0.0)],
                 false,
             ));
             fig.series.push(centred(
-                "centred: unstable",
+                "centred: linearly unstable",
                 vec![(h.speed_m_s, 0.0), (hi, 0.0)],
                 true,
             ));
@@ -425,7 +468,7 @@ fn bifurcation_figure(r: &crate::bifurcation::BifurcationReport) -> Figure {
             });
         }
         None => fig.series.push(centred(
-            "centred: stable",
+            "centred: linearly stable",
             vec![(lo, 0.0), (hi, 0.0)],
             false,
         )),
