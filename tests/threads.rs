@@ -189,3 +189,41 @@ constraints = [ { result = "nonlinear_critical_speed", at_least = "75 m/s" } ]
         );
     }
 }
+
+/// `--threads N` on `bifurcation`, `attractors` and `curve` runs the command on N threads,
+/// whatever `RAYON_NUM_THREADS` says: the files are the same as with one thread; `--threads 0`
+/// is refused (exit 2, naming the option and the rule).
+#[test]
+fn the_threads_option_gives_the_same_files_and_refuses_zero() {
+    let dir = scratch("option");
+    let study = root().join("studies/seed-hunting.toml");
+    let study = study.to_str().expect("utf-8");
+    let run = |threads: &str, command: &str| {
+        let out = dir.join(format!("{command}-{threads}"));
+        let o = Command::new(env!("CARGO_BIN_EXE_critspeed"))
+            .arg("--out")
+            .arg(&out)
+            .args([command, study, "--threads", threads])
+            .env("RAYON_NUM_THREADS", "3")
+            .output()
+            .expect("the binary runs");
+        (out, o)
+    };
+    for command in ["bifurcation", "attractors"] {
+        let (one, o1) = run("1", command);
+        let (two, o2) = run("2", command);
+        assert!(o1.status.success() && o2.status.success(), "{command}");
+        let names = files(&one);
+        assert!(!names.is_empty(), "{command} wrote nothing");
+        assert_eq!(files(&two), names, "{command}");
+        for n in &names {
+            let a = std::fs::read(one.join(n)).expect("readable");
+            let b = std::fs::read(two.join(n)).expect("readable");
+            assert!(a == b, "{command}: {} differs", n.display());
+        }
+    }
+    let (_, o) = run("0", "bifurcation");
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("--threads 0: must be at least 1"), "{err}");
+}

@@ -28,7 +28,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
             }
             Ok(())
         }
-        Command::Bifurcation { study, json } => {
+        Command::Bifurcation { study, json, .. } => {
             let p = prepare(load(study)?)?;
             let report = nonlinear(&p, &cli.out)?;
             if *json {
@@ -40,7 +40,9 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
             }
             Ok(())
         }
-        Command::Attractors { study, json } => super::attractors::command(study, *json, &cli.out),
+        Command::Attractors { study, json, .. } => {
+            super::attractors::command(study, *json, &cli.out)
+        }
         Command::Simulate {
             study,
             speed,

@@ -17,6 +17,9 @@ pub struct CurveArgs {
     /// Print one JSON object on stdout instead of the summary.
     #[arg(long)]
     pub json: bool,
+    /// Worker threads (default: all cores); the results are the same on any count.
+    #[arg(long)]
+    pub threads: Option<usize>,
 }
 
 /// Computes the curves, writes curve.json, curve.csv and curve.svg, prints the summary.

@@ -63,6 +63,9 @@ pub enum Command {
         /// Print one JSON object on stdout instead of the table.
         #[arg(long)]
         json: bool,
+        /// Worker threads (default: all cores); the results are the same on any count.
+        #[arg(long)]
+        threads: Option<usize>,
     },
     /// Every hunting attractor: simulations from many initial states over a descending
     /// sequence of speeds, each attractor followed down until it dies, with the continuation
@@ -73,6 +76,9 @@ pub enum Command {
         /// Print one JSON object on stdout instead of the table.
         #[arg(long)]
         json: bool,
+        /// Worker threads (default: all cores); the results are the same on any count.
+        #[arg(long)]
+        threads: Option<usize>,
     },
     /// Time simulation at one or more constant speeds from an initial lateral displacement
     /// (the seed's Figs. 10-11): time-history CSV and SVG (y, yaw, phase portrait).
@@ -141,6 +147,28 @@ pub enum Command {
 
 pub use crate::api::Failure;
 
+/// The `--threads` of a command that runs on rayon's pool (the sweeps build their own).
+fn threads(c: &Command) -> Option<usize> {
+    match c {
+        Command::Bifurcation { threads, .. } | Command::Attractors { threads, .. } => *threads,
+        Command::Curve(a) => a.threads,
+        _ => None,
+    }
+}
+
+/// A pool of `n` worker threads, or the user error of `--threads 0`.
+fn pool(n: usize) -> Result<rayon::ThreadPool, Failure> {
+    if n == 0 {
+        return Err(Failure::User(anyhow::anyhow!(
+            "--threads 0: must be at least 1"
+        )));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build()
+        .map_err(|e| Failure::Compute(anyhow::anyhow!("cannot start {n} threads: {e}")))
+}
+
 /// Parses the arguments, runs the command and maps the outcome to an exit code.
 pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
@@ -155,7 +183,12 @@ pub fn main() -> ExitCode {
             };
         }
     };
-    match commands::dispatch(&cli) {
+    let run = || commands::dispatch(&cli);
+    let outcome = match threads(&cli.command) {
+        None => run(),
+        Some(n) => pool(n).and_then(|p| p.install(run)),
+    };
+    match outcome {
         Ok(()) => ExitCode::SUCCESS,
         Err(f @ Failure::User(_)) => {
             statusln!("error: {}", f.message());
