@@ -182,6 +182,8 @@ fn a_vnl_interval_end_agrees_with_whole_diagrams() {
     assert_eq!(code, Some(0), "{err}");
     let iv = j["intervals"].as_array().expect("intervals");
     assert_eq!(iv.len(), 1, "{j}");
+    // a wheelset's one-point V_NL is the fast form's unless the sweep asks for the search
+    assert_eq!(j["verification"]["nonlinear_method"], "descents", "{j}");
     let to = f(&iv[0]["to"]);
     assert!(
         iv[0]["to_end"]["how"]

@@ -190,7 +190,18 @@ pub(super) fn run(
         "trade.csv",
         curve_report::csv(&axis, &trade).as_bytes(),
     )?;
-    let j = curve_report::json(&plan.name, tp, &axis, &report, &trade);
+    let mut j = curve_report::json(&plan.name, tp, &axis, &report, &trade);
+    // how the verification's one-point V_NL was found (the sweep's method)
+    let method = (tp
+        .read_results()
+        .contains(&ResultKind::NonlinearCriticalSpeed)
+        && trade.verification.is_some())
+    .then(|| crate::sweep::nonlinear_method(study.spec.attractors));
+    if let (Some((name, _)), Some(v)) = (method, j.get_mut("verification")) {
+        if let Some(o) = v.as_object_mut() {
+            o.insert("nonlinear_method".into(), name.into());
+        }
+    }
     let text = serde_json::to_string_pretty(&j).map_err(compute)? + "\n";
     write(&dir, "trade.json", text.as_bytes())?;
     let fig = crate::figures::trade_curve(&plan.name, tp, &axis, &trade);
@@ -198,9 +209,11 @@ pub(super) fn run(
     if a.json {
         results(&text)?;
     } else {
-        results(&curve_report::summary(
-            &plan.name, tp, &axis, &report, &trade,
-        ))?;
+        let mut text = curve_report::summary(&plan.name, tp, &axis, &report, &trade);
+        if let Some((_, words)) = method {
+            text.push_str(&format!("the verification's one-point V_NL: {words}\n"));
+        }
+        results(&text)?;
     }
     Ok(())
 }
