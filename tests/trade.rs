@@ -217,6 +217,11 @@ fn check_validates_sweep_and_trade() {
         stdout.contains("[sweep] valid: 25 points") && stdout.contains("[trade] valid"),
         "{stdout}"
     );
+    // a wheelset's sweep finds V_NL by the fast form unless it asks for the search
+    assert!(
+        stdout.contains("  V_NL by the continuation and the descents"),
+        "{stdout}"
+    );
     let bad = dir.join("bad.toml");
     std::fs::write(&bad, study_text().replace("minimize = ", "minimise = ")).expect("write");
     let out = critspeed(&["check", bad.to_str().expect("utf-8")], &dir);

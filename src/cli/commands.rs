@@ -104,6 +104,11 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
                     s.spec.len(),
                     keys.join(" x ")
                 );
+                if s.spec.compute.nonlinear {
+                    // the method's default depends on the vehicle: say which one applies
+                    let words = crate::sweep::nonlinear_method(s.spec.attractors).1;
+                    sections += &format!("  V_NL {words}\n");
+                }
             }
             if checked.sections.iter().any(|(k, _)| k == "trade") {
                 sections += "[trade] valid\n";
