@@ -58,12 +58,14 @@ fn main() -> ExitCode {
         s.failed_steps, s.angle_rejections, s.locate_corrections
     );
     println!(
-        "  Newton iterations {} ({:.2} per cycle), integrator steps {} (+{} rejected), {:.0} per linearisation",
+        "  linearisations {} ({:.2} per cycle), chord iterations {} ({:.2} per cycle), integrator steps {} (+{} rejected), {:.0} per iteration",
         s.newton_iterations,
         s.newton_iterations as f64 / cycles.max(1) as f64,
+        s.chord_iterations,
+        s.chord_iterations as f64 / cycles.max(1) as f64,
         s.integrator_steps,
         s.integrator_rejected,
-        s.integrator_steps as f64 / s.newton_iterations.max(1) as f64
+        s.integrator_steps as f64 / (s.newton_iterations + s.chord_iterations).max(1) as f64
     );
     for p in &r.special {
         println!(

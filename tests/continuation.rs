@@ -316,3 +316,48 @@ fn accuracy_limited_steps_do_not_stop_a_branch_as_stiff() {
     );
     assert!(branch.points.len() > 10, "{}", branch.points.len());
 }
+
+/// The chord corrector (a linearisation kept for the iterations after it, which integrate the
+/// plain flows alone) and Newton (a linearisation at every iteration) find the same cycles:
+/// both on μ = r⁴ − r² with the fold at μ = −1/4, in one and in three segments, and the chord
+/// corrector takes fewer linearisations for them.
+#[test]
+fn chord_and_newton_correctors_find_the_same_closed_form_cycles() {
+    let field = HopfNormalForm {
+        omega: 2.0,
+        a: 1.0,
+        b: -1.0,
+    };
+    for segments in [1, 3] {
+        let mut linearisations = Vec::new();
+        for chord in [true, false] {
+            let mut c = continuation(&field, (-1.0, 1.0), 1.1, true);
+            c.shooting.segments = segments;
+            c.params.chord = chord;
+            let (start, dir) = from_hopf(&field);
+            let b = c.run(start, dir);
+            assert!(b.points.len() > 10, "{:?}", b.stop);
+            for p in &b.points {
+                let r2 = p.amplitude * p.amplitude;
+                assert_relative_eq!(p.orbit.param, r2 * r2 - r2, epsilon = 1e-8);
+                assert!(
+                    p.floquet.trivial_error < 1e-8,
+                    "{}",
+                    p.floquet.trivial_error
+                );
+            }
+            let fold = b
+                .special
+                .iter()
+                .find(|s| s.kind == SpecialKind::Fold)
+                .expect("a fold");
+            assert_relative_eq!(fold.orbit.param, -0.25, max_relative = 1e-7);
+            assert_eq!(b.stats.chord_iterations > 0, chord, "{:?}", b.stats);
+            linearisations.push(b.stats.newton_iterations as f64 / b.points.len() as f64);
+        }
+        assert!(
+            linearisations[0] < linearisations[1],
+            "{segments} segments: linearisations per cycle {linearisations:?}"
+        );
+    }
+}

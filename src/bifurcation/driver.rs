@@ -527,6 +527,7 @@ fn fill<const N: usize>(
         t.angle_rejections += s.angle_rejections;
         t.locate_corrections += s.locate_corrections;
         t.newton_iterations += s.newton_iterations;
+        t.chord_iterations += s.chord_iterations;
         t.integrator_steps += s.integrator_steps;
         t.integrator_rejected += s.integrator_rejected;
         report

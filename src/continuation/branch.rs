@@ -64,6 +64,10 @@ pub struct ContinuationParams {
     /// over a segment is sensitive (near flange contact, at sharp turns of asymmetric
     /// branches), and the count depends only on the branch, never on the machine.
     pub refinements: usize,
+    /// chord (Shamanskii) correctors: keep a linearisation's matrix for the following
+    /// iterations, which then integrate the plain flows alone (see `correct`); `false`:
+    /// Newton, a linearisation at every iteration. Default `true`.
+    pub chord: bool,
 }
 
 impl ContinuationParams {
@@ -85,6 +89,7 @@ impl ContinuationParams {
             locate_tol: 1e-9,
             max_steps_per_iteration: None,
             refinements: 0,
+            chord: true,
         }
     }
 }
@@ -234,6 +239,7 @@ impl BranchStats {
             angle_rejections: self.angle_rejections + o.angle_rejections,
             locate_corrections: self.locate_corrections + o.locate_corrections,
             newton_iterations: self.newton_iterations + o.newton_iterations,
+            chord_iterations: self.chord_iterations + o.chord_iterations,
             integrator_steps: self.integrator_steps + o.integrator_steps,
             integrator_rejected: self.integrator_rejected + o.integrator_rejected,
         }
@@ -252,7 +258,9 @@ pub struct BranchStats {
     pub locate_corrections: usize,
     /// Newton iterations, i.e. shooting linearisations (failed correctors included)
     pub newton_iterations: usize,
-    /// accepted integrator steps of the flows with their monodromy (all linearisations)
+    /// chord iterations (the plain flows alone, with the matrix of the last linearisation)
+    pub chord_iterations: usize,
+    /// accepted integrator steps of all flows (linearisations and chord iterations)
     pub integrator_steps: usize,
     /// integrator steps rejected by the error test (the same flows)
     pub integrator_rejected: usize,
@@ -269,6 +277,22 @@ pub struct BranchStats {
 const NOT_CONTRACTING: f64 = 0.75;
 /// … the noise floor, in Newton tolerances.
 const NOISE_FLOOR: f64 = 1e3;
+/// A chord update that shrinks by less than this factor renews the corrector's matrix (a new
+/// linearisation). A chord iteration costs the plain flows, a fifteenth of a linearisation on
+/// the DTU car and a fifth on a wheelset; at this rate a decade of the update costs about two
+/// chord iterations.
+const CHORD_RATE: f64 = 0.3;
+/// Chord iterations a corrector may take, per Newton iteration allowed
+/// ([`ContinuationParams::newton_max_iter`]); at the limit the matrix is renewed.
+const CHORDS_PER_LIMIT: usize = 3;
+/// Chord iterations end where their update falls below this many Newton tolerances: the plain
+/// flows and the flows with their monodromies are integrated on different step sequences (the
+/// monodromy's error enters the step control), and their orbits differ by their integration
+/// errors, about 1e-8 scaled at rtol 1e-10 (measured on seed-hunting: the linearisation's
+/// update after converged chords stayed at 1.1e-8 to 2.9e-8). The linearisation that follows
+/// is accepted when its update is within the same bound: a Newton step from that close leaves
+/// an error of second order in it.
+const CONFIRM: f64 = 100.0;
 
 /// Counters the corrector adds to (atomic: the driver is shared by reference).
 #[derive(Default)]
@@ -276,6 +300,7 @@ struct Counters {
     /// bits of the last corrector's first scaled Newton update (0: none yet)
     first_update: AtomicU64,
     newton: AtomicUsize,
+    chord: AtomicUsize,
     steps: AtomicUsize,
     rejected: AtomicUsize,
 }
@@ -373,6 +398,14 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
 
     /// Newton from the prediction `zp` with the arclength row `tangent` (scaled); `seed`: the
     /// segments of a nearby orbit's linearisation (interior shooting starts).
+    ///
+    /// A chord (Shamanskii) iteration: after a linearisation (the flows with their
+    /// monodromies) the bordered matrix is kept, factorised, and the following iterations
+    /// integrate the plain flows alone for the residual ([`Shooting::residual_chord`]). The
+    /// matrix is renewed when a chord update shrinks by less than [`CHORD_RATE`], and once more
+    /// at the orbit the chords converged to: every accepted orbit ends, as with Newton, on a
+    /// linearisation at the problem's tolerance whose update is at most `newton_tol`, and its
+    /// multipliers, extremes and tangent are that linearisation's.
     fn correct(
         &self,
         zp: &DVector<f64>,
@@ -386,37 +419,83 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         let mut z = zp.clone();
         let mut last_seed = seed.cloned();
         let rtol = self.shooting.ode.tol.rtol;
-        let mut previous = f64::INFINITY;
-        for it in 1..=self.params.newton_max_iter {
-            let first = f64::from_bits(counters.first_update.load(Relaxed));
-            let it_rtol = if it == 1 && self.params.inexact_first > 0.0 {
-                (self.params.inexact_first * first).clamp(rtol, rtol.max(1e-6))
-            } else {
-                rtol
-            };
-            let lin = self
-                .shooting
-                .linearise_at(&unpack::<N>(&z), last_seed.as_ref(), it_rtol)
-                .map_err(|_| NewtonStop::Diverged)?;
-            counters.newton.fetch_add(1, Relaxed);
-            counters.steps.fetch_add(lin.steps, Relaxed);
-            counters.rejected.fetch_add(lin.rejected, Relaxed);
-            last_seed = Some(lin.seed.clone());
-            let mut a = DMatrix::zeros(N + 2, N + 2);
-            a.view_mut((0, 0), (N, N + 2)).copy_from(&lin.jacobian);
+        let max_chords = if self.params.chord {
+            CHORDS_PER_LIMIT
+        } else {
+            0
+        } * self.params.newton_max_iter;
+        // the rows that do not change within a corrector: the phase and arclength conditions
+        let mut a = DMatrix::zeros(N + 2, N + 2);
+        for i in 0..N {
+            a[(N, i)] = fr[i];
+        }
+        for i in 0..N + 2 {
+            a[(N + 1, i)] = tangent[i] / s[i];
+        }
+        let rhs = |residual: &SVector<f64, N>, z: &DVector<f64>| {
             let mut b = DVector::zeros(N + 2);
             for i in 0..N {
-                a[(N, i)] = fr[i];
-                b[i] = -lin.residual[i];
+                b[i] = -residual[i];
             }
             b[N] = -(0..N).map(|i| fr[i] * (z[i] - xr[i])).sum::<f64>();
-            for i in 0..N + 2 {
-                a[(N + 1, i)] = tangent[i] / s[i];
-            }
             b[N + 1] = -(0..N + 2)
                 .map(|i| tangent[i] * (z[i] - zp[i]) / s[i])
                 .sum::<f64>();
-            let delta = solve_dense(a.clone(), b).ok_or(NewtonStop::Singular)?;
+            b
+        };
+        let mut factor: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>> = None;
+        let (mut linearisations, mut chords, mut iterations) = (0, 0, 0);
+        let mut renew = true;
+        let (mut confirming, mut newton_only) = (false, false);
+        let mut previous = f64::INFINITY;
+        loop {
+            iterations += 1;
+            let (delta, lin) = match factor.as_ref() {
+                Some(lu) if !renew => {
+                    chords += 1;
+                    let frozen = last_seed.as_ref().ok_or(NewtonStop::Singular)?;
+                    let ch = self
+                        .shooting
+                        .residual_chord(&unpack::<N>(&z), frozen, rtol)
+                        .map_err(|_| NewtonStop::Diverged)?;
+                    counters.chord.fetch_add(1, Relaxed);
+                    counters.steps.fetch_add(ch.steps, Relaxed);
+                    counters.rejected.fetch_add(ch.rejected, Relaxed);
+                    let delta = lu
+                        .solve(&rhs(&ch.residual, &z))
+                        .ok_or(NewtonStop::Singular)?;
+                    last_seed = Some(ch.seed);
+                    (delta, None)
+                }
+                _ => {
+                    linearisations += 1;
+                    if linearisations > self.params.newton_max_iter {
+                        return Err(NewtonStop::MaxIterations);
+                    }
+                    let first = f64::from_bits(counters.first_update.load(Relaxed));
+                    let it_rtol = if iterations == 1 && self.params.inexact_first > 0.0 {
+                        (self.params.inexact_first * first).clamp(rtol, rtol.max(1e-6))
+                    } else {
+                        rtol
+                    };
+                    let lin = self
+                        .shooting
+                        .linearise_at(&unpack::<N>(&z), last_seed.as_ref(), it_rtol)
+                        .map_err(|_| NewtonStop::Diverged)?;
+                    counters.newton.fetch_add(1, Relaxed);
+                    counters.steps.fetch_add(lin.steps, Relaxed);
+                    counters.rejected.fetch_add(lin.rejected, Relaxed);
+                    last_seed = Some(lin.seed.clone());
+                    a.view_mut((0, 0), (N, N + 2)).copy_from(&lin.jacobian);
+                    let lu = a.clone().lu();
+                    let delta = lu
+                        .solve(&rhs(&lin.residual, &z))
+                        .filter(|d| d.iter().all(|v| v.is_finite()))
+                        .ok_or(NewtonStop::Singular)?;
+                    factor = Some(lu);
+                    (delta, Some((lin, it_rtol == rtol)))
+                }
+            };
             z += &delta;
             let size = delta
                 .iter()
@@ -426,45 +505,80 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             if !size.is_finite() {
                 return Err(NewtonStop::Diverged);
             }
-            if it == 1 {
+            if iterations == 1 {
                 counters.first_update.store(size.to_bits(), Relaxed);
             }
-            if it >= 3
-                && size > NOT_CONTRACTING * previous
-                && previous > NOISE_FLOOR * self.params.newton_tol
-            {
-                return Err(NewtonStop::NotContracting);
+            match lin {
+                Some((lin, exact)) => {
+                    // After chords converged, this linearisation's Newton update is the last:
+                    // from within `CONFIRM` tolerances its own error is of second order.
+                    let accept = if confirming {
+                        CONFIRM * self.params.newton_tol
+                    } else {
+                        self.params.newton_tol
+                    };
+                    if size <= accept && exact {
+                        return self.corrected(&a, tangent, &z, lin, iterations);
+                    }
+                    if linearisations >= 3
+                        && size > NOT_CONTRACTING * previous
+                        && previous > NOISE_FLOOR * self.params.newton_tol
+                    {
+                        return Err(NewtonStop::NotContracting);
+                    }
+                    // Newton from here on once a confirmation failed: the plain flows' orbit
+                    // and the linearisation's differ by more than their integration error
+                    newton_only |= confirming;
+                    confirming = false;
+                    renew = newton_only || chords >= max_chords;
+                }
+                None => {
+                    // converged by chords: a linearisation at the orbit confirms it and gives
+                    // its multipliers; a poor contraction renews the matrix
+                    confirming = size <= CONFIRM * self.params.newton_tol;
+                    renew = confirming || size > CHORD_RATE * previous || chords >= max_chords;
+                }
             }
             previous = size;
-            if size <= self.params.newton_tol && it_rtol == rtol {
-                // New tangent: the same bordered matrix with the old tangent as last row.
-                let mut e = DVector::zeros(N + 2);
-                e[N + 1] = 1.0;
-                let mut t = solve_dense(a, e).ok_or(NewtonStop::Singular)?;
-                for i in 0..N + 2 {
-                    t[i] /= s[i];
-                }
-                let n = t.norm();
-                if !(n > 0.0 && n.is_finite()) {
-                    return Err(NewtonStop::Singular);
-                }
-                t /= n;
-                if t.dot(tangent) < 0.0 {
-                    t = -t;
-                }
-                return Ok(Corrected {
-                    orbit: unpack(&z),
-                    floquet: Floquet::from_monodromy(&lin.monodromy, self.shooting.symmetric),
-                    peaks: lin.peaks,
-                    high: lin.high,
-                    low: lin.low,
-                    tangent: t,
-                    iterations: it,
-                    seed: lin.seed,
-                });
-            }
         }
-        Err(NewtonStop::MaxIterations)
+    }
+
+    /// The accepted orbit `z` of a corrector whose last linearisation `lin` (bordered matrix
+    /// `a`) gave an update within the tolerance: its tangent and multipliers.
+    fn corrected(
+        &self,
+        a: &DMatrix<f64>,
+        tangent: &DVector<f64>,
+        z: &DVector<f64>,
+        lin: super::orbit::Linearised<N>,
+        iterations: usize,
+    ) -> Result<Corrected<N>, NewtonStop> {
+        let s = self.scale();
+        // New tangent: the same bordered matrix with the old tangent as last row.
+        let mut e = DVector::zeros(N + 2);
+        e[N + 1] = 1.0;
+        let mut t = solve_dense(a.clone(), e).ok_or(NewtonStop::Singular)?;
+        for i in 0..N + 2 {
+            t[i] /= s[i];
+        }
+        let n = t.norm();
+        if !(n > 0.0 && n.is_finite()) {
+            return Err(NewtonStop::Singular);
+        }
+        t /= n;
+        if t.dot(tangent) < 0.0 {
+            t = -t;
+        }
+        Ok(Corrected {
+            orbit: unpack(z),
+            floquet: Floquet::from_monodromy(&lin.monodromy, self.shooting.symmetric),
+            peaks: lin.peaks,
+            high: lin.high,
+            low: lin.low,
+            tangent: t,
+            iterations,
+            seed: lin.seed,
+        })
     }
 
     /// Newton at a fixed parameter from `guess` (the arclength row pins p): one periodic
@@ -710,6 +824,7 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             }
         };
         stats.newton_iterations = counters.newton.load(Relaxed);
+        stats.chord_iterations = counters.chord.load(Relaxed);
         stats.integrator_steps = counters.steps.load(Relaxed);
         stats.integrator_rejected = counters.rejected.load(Relaxed);
         let branch = Branch {

@@ -110,6 +110,39 @@ impl<const N: usize> SegmentSeed<N> {
         self.segments.get(i).map(|s| s.start)
     }
 
+    /// The condensed linearisation of these segments: the monodromy $Φ_{m−1}\cdotsΦ_0$, the
+    /// end of the shooting interval with the interior mismatches carried through, and the
+    /// $N × (N + 2)$ Jacobian $[∂G/∂x_0 \;|\; ∂G/∂T \;|\; ∂G/∂p]$ of the residual ($G = $ end
+    /// $+ x_0$ for the symmetric half-period form, end $− x_0$ else).
+    fn condensed(&self, symmetric: bool) -> (SMatrix<f64, N, N>, SVector<f64, N>, DMatrix<f64>) {
+        let m = self.segments.len();
+        // δx_i = A δx0 + G δT + Q δp + C, condensed segment by segment
+        let mut a = SMatrix::<f64, N, N>::identity();
+        let (mut g, mut q, mut c) = (SVector::zeros(), SVector::zeros(), SVector::zeros());
+        for (i, s) in self.segments.iter().enumerate().take(m.saturating_sub(1)) {
+            a = s.phi * a;
+            g = s.phi * g + s.d_t;
+            q = s.phi * q + s.d_p;
+            c = s.phi * c + (s.end - self.segments[i + 1].start);
+        }
+        let mut jacobian = DMatrix::zeros(N, N + 2);
+        let Some(last) = self.segments.last() else {
+            return (a, self.z.x0, jacobian);
+        };
+        let monodromy = last.phi * a;
+        let end = last.end + last.phi * c;
+        let sign = if symmetric { 1.0 } else { -1.0 };
+        let d_x0 = monodromy + SMatrix::<f64, N, N>::identity() * sign;
+        jacobian.view_mut((0, 0), (N, N)).copy_from(&d_x0);
+        jacobian
+            .view_mut((0, N), (N, 1))
+            .copy_from(&(last.phi * g + last.d_t));
+        jacobian
+            .view_mut((0, N + 1), (N, 1))
+            .copy_from(&(last.phi * q + last.d_p));
+        (monodromy, end, jacobian)
+    }
+
     fn starts(&self, z: &OrbitPoint<N>) -> Vec<SVector<f64, N>> {
         let (dt, dp) = (z.period - self.z.period, z.param - self.z.param);
         let mut out = vec![z.x0];
@@ -334,18 +367,8 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
                 h_first: (a.h_first, b.h_first),
             });
         }
-        // δx_i = A δx0 + G δT + Q δp + C, condensed segment by segment
-        let mut a = SMatrix::<f64, N, N>::identity();
-        let (mut g, mut q, mut c) = (SVector::zeros(), SVector::zeros(), SVector::zeros());
-        for (i, s) in segments.iter().enumerate().take(m - 1) {
-            a = s.phi * a;
-            g = s.phi * g + s.d_t;
-            q = s.phi * q + s.d_p;
-            c = s.phi * c + (s.end - segments[i + 1].start);
-        }
-        let last = &segments[m - 1];
-        let monodromy = last.phi * a;
-        let end = last.end + last.phi * c;
+        let seed = SegmentSeed { z: *z, segments };
+        let (monodromy, end, jacobian) = seed.condensed(self.symmetric);
         let residual = self.residual_of(&z.x0, &end);
         if self.symmetric {
             // the second half period is the first one negated
@@ -353,14 +376,6 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
             low = -high;
         }
         let peaks = high.abs().sup(&low.abs());
-        let sign = if self.symmetric { 1.0 } else { -1.0 };
-        let d_x0 = monodromy + SMatrix::<f64, N, N>::identity() * sign;
-        let d_t = last.phi * g + last.d_t;
-        let d_p = last.phi * q + last.d_p;
-        let mut jacobian = DMatrix::zeros(N, N + 2);
-        jacobian.view_mut((0, 0), (N, N)).copy_from(&d_x0);
-        jacobian.view_mut((0, N), (N, 1)).copy_from(&d_t);
-        jacobian.view_mut((0, N + 1), (N, 1)).copy_from(&d_p);
         Ok(Linearised {
             residual,
             jacobian,
@@ -371,9 +386,94 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
             peaks,
             high,
             low,
-            seed: SegmentSeed { z: *z, segments },
+            seed,
         })
     }
+}
+
+impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
+    /// The shooting residual at `z` by the plain flows alone, with the Jacobian of an earlier
+    /// linearisation (`frozen`, which has this problem's segment count): one chord iteration
+    /// of Newton's method. The interior starts follow from `frozen` as in
+    /// [`linearise_from`](Self::linearise_from), and the segments' mismatches are condensed
+    /// with its monodromies $Φ_i$, so that the update from the frozen bordered matrix is the
+    /// chord update of the whole multiple-shooting system. The returned seed carries the new
+    /// starts and ends with the frozen derivatives (the next chord iteration's).
+    ///
+    /// A plain flow costs a fifteenth of a flow with its monodromy on the DTU car (the
+    /// variational equations are N + 1 times the state), so a chord iteration is that much
+    /// cheaper than a Newton iteration; it converges linearly, at a rate set by how far the
+    /// frozen Jacobian is from the current one.
+    pub fn residual_chord(
+        &self,
+        z: &OrbitPoint<N>,
+        frozen: &SegmentSeed<N>,
+        rtol: f64,
+    ) -> Result<Chord<N>, OdeError> {
+        let m = self.count();
+        if frozen.segments.len() != m {
+            return Err(OdeError::NonFinite { t: 0.0 });
+        }
+        let span = self.horizon(z.period) / m as f64;
+        let starts = frozen.starts(z);
+        let parallel = self.parallel
+            && rayon::current_num_threads() > 1
+            && m > 1
+            && !self.busy.as_ref().is_some_and(PoolBusy::is_up);
+        let piece = |(x, s): (&SVector<f64, N>, &Segment<N>)| {
+            self.flow(x, span, z.param, false, s.h_first.0, rtol)
+        };
+        let flows: Vec<_> = if parallel {
+            use rayon::prelude::*;
+            starts
+                .par_iter()
+                .zip(frozen.segments.par_iter())
+                .map(piece)
+                .collect()
+        } else {
+            starts
+                .iter()
+                .zip(frozen.segments.iter())
+                .map(piece)
+                .collect()
+        };
+        let mut segments = Vec::with_capacity(m);
+        let (mut steps, mut rejected) = (0, 0);
+        for ((start, old), f) in starts.iter().zip(&frozen.segments).zip(flows) {
+            let f = f?;
+            if !f.end.iter().all(|v| v.is_finite()) {
+                return Err(OdeError::NonFinite { t: span });
+            }
+            steps += f.steps;
+            rejected += f.rejected;
+            segments.push(Segment {
+                start: *start,
+                end: f.end,
+                h_first: (f.h_first, old.h_first.1),
+                ..old.clone()
+            });
+        }
+        let seed = SegmentSeed { z: *z, segments };
+        let (_, end, _) = seed.condensed(self.symmetric);
+        Ok(Chord {
+            residual: self.residual_of(&z.x0, &end),
+            steps,
+            rejected,
+            seed,
+        })
+    }
+}
+
+/// One chord iteration's residual (see [`Shooting::residual_chord`]).
+pub struct Chord<const N: usize> {
+    /// $G(x_0, T, p)$, condensed over the segments with the frozen monodromies
+    pub residual: SVector<f64, N>,
+    /// integrator steps of the plain flows
+    pub steps: usize,
+    /// integrator steps rejected by the error test
+    pub rejected: usize,
+    /// the new starts and ends with the frozen derivatives
+    pub seed: SegmentSeed<N>,
 }
 
 /// Floquet multipliers of an orbit from its shooting monodromy.
