@@ -319,6 +319,15 @@ pub fn attractors(
 /// motion its methods found, not a proof that none lives lower. The centred line's own
 /// legend says "linearly stable", so no part of the picture calls a speed where a motion
 /// hunts stable.
+/// The colours of the speed regions, the same in every picture: green where no hunting was
+/// found (below V_NL), amber where the vehicle hunts after a disturbance (V_NL to V_H), red
+/// where it hunts from any disturbance (above V_H).
+const NO_HUNTING: Style = Style::ShadeRgb(0x2c, 0xa0, 0x2c);
+/// … amber: hunts if disturbed.
+const HUNTS_IF_DISTURBED: Style = Style::ShadeRgb(0xff, 0xb0, 0x00);
+/// … red: hunts.
+const HUNTS: Style = Style::ShadeRgb(0xd6, 0x27, 0x28);
+
 fn hunting_regions(fig: &mut Figure, r: &crate::bifurcation::BifurcationReport) {
     let Some((y0, y1)) = fig.y_range else {
         return;
@@ -337,7 +346,7 @@ fn hunting_regions(fig: &mut Figure, r: &crate::bifurcation::BifurcationReport) 
             shades.push(Series {
                 name: "hunts if disturbed (V_NL–V_H)".into(),
                 points: band(v.max(lo), top),
-                style: Style::ShadeRgb(0xff, 0xb0, 0x00),
+                style: HUNTS_IF_DISTURBED,
             });
         }
     }
@@ -345,7 +354,7 @@ fn hunting_regions(fig: &mut Figure, r: &crate::bifurcation::BifurcationReport) 
         shades.push(Series {
             name: "hunts (above V_H)".into(),
             points: band(v.max(lo), hi),
-            style: Style::ShadeRgb(0xd6, 0x27, 0x28),
+            style: HUNTS,
         });
     }
     // drawn first, under the branches

@@ -66,7 +66,10 @@ pub struct ContinuationParams {
     pub refinements: usize,
     /// chord (Shamanskii) correctors: keep a linearisation's matrix for the following
     /// iterations, which then integrate the plain flows alone (see `correct`); `false`:
-    /// Newton, a linearisation at every iteration. Default `true`.
+    /// Newton, a linearisation at every iteration. Default `false`: on the DTU bogie and car
+    /// the chord halves the diagram's time with the same V_NL, but on the S1002 bogie it
+    /// changed the branch's path (see [`MAX_CORRECTION`]) and on the S1002 car it took 800
+    /// cycles and 121 s where Newton takes 579 cycles and 71 s.
     pub chord: bool,
 }
 
@@ -89,7 +92,7 @@ impl ContinuationParams {
             locate_tol: 1e-9,
             max_steps_per_iteration: None,
             refinements: 0,
-            chord: true,
+            chord: false,
         }
     }
 }
@@ -142,7 +145,7 @@ pub struct BranchPoint<const N: usize> {
     pub low: SVector<f64, N>,
     /// unit tangent (scaled)
     pub tangent: DVector<f64>,
-    /// Newton iterations used
+    /// corrector iterations used (with chord correctors, linearisations and chord iterations)
     pub newton_iterations: usize,
     /// the shooting segments of the last linearisation (interior starts for the next solve)
     pub seed: SegmentSeed<N>,
@@ -282,6 +285,15 @@ const NOISE_FLOOR: f64 = 1e3;
 /// the DTU car and a fifth on a wheelset; at this rate a decade of the update costs about two
 /// chord iterations.
 const CHORD_RATE: f64 = 0.3;
+/// With chord correctors, a corrected orbit farther than this many steps from its prediction
+/// is refused like a sharp turn (the step halves): on a smooth branch the correction is about
+/// κ ds²/2 for a curvature κ, which the angle guard keeps below `max_angle`/2 × ds; a
+/// correction half the step or longer has likely landed on another sheet. Measured on the
+/// S1002 bogie (`studies/dtu-cooperrider-bogie-s1002.toml`): without the guard, a chord
+/// corrector near the fold at 75.8 m/s converged onto another sheet and the branch missed its
+/// folds at 75.83 and 49.82 m/s (V_NL 53.19 instead of 49.82 m/s); with it the folds are
+/// found, but the branch needs more than its 400 cycles (Newton: 377).
+const MAX_CORRECTION: f64 = 0.5;
 /// Chord iterations a corrector may take, per Newton iteration allowed
 /// ([`ContinuationParams::newton_max_iter`]); at the limit the matrix is renewed.
 const CHORDS_PER_LIMIT: usize = 3;
@@ -543,6 +555,16 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
         }
     }
 
+    /// The length of a corrector's correction from its prediction `zp`, in scaled units.
+    fn correction(&self, zp: &DVector<f64>, c: &Corrected<N>) -> f64 {
+        let s = self.scale();
+        let z = pack(&c.orbit);
+        (0..N + 2)
+            .map(|i| ((z[i] - zp[i]) / s[i]).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    }
+
     /// The accepted orbit `z` of a corrector whose last linearisation `lin` (bordered matrix
     /// `a`) gave an update within the tolerance: its tangent and multipliers.
     fn corrected(
@@ -716,7 +738,13 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
             let zp = self.predict(&z, &tangent, ds);
             let steps_before = counters.steps.load(Relaxed) + counters.rejected.load(Relaxed);
             let c = match self.correct(&zp, &tangent, seed.as_ref(), &counters) {
-                Ok(c) if c.tangent.dot(&tangent) >= p.max_angle.cos() || points.is_empty() => c,
+                Ok(c)
+                    if points.is_empty()
+                        || (c.tangent.dot(&tangent) >= p.max_angle.cos()
+                            && (!p.chord || self.correction(&zp, &c) <= MAX_CORRECTION * ds)) =>
+                {
+                    c
+                }
                 Ok(_) => {
                     stats.angle_rejections += 1;
                     ds *= 0.5;

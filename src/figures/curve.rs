@@ -148,17 +148,17 @@ pub fn curve(r: &CurveReport) -> Rendered {
                 (
                     none,
                     "no hunting (below V_NL)".to_string(),
-                    Style::ShadeRgb(0x2c, 0xa0, 0x2c),
+                    super::NO_HUNTING,
                 ),
                 (
                     middle,
                     format!("stable, hunts if disturbed{unknown}"),
-                    Style::ShadeRgb(0xff, 0xb0, 0x00),
+                    super::HUNTS_IF_DISTURBED,
                 ),
                 (
                     above,
                     format!("unstable (above {}, {law})", region.label),
-                    Style::ShadeRgb(0xd6, 0x27, 0x28),
+                    super::HUNTS,
                 ),
             ] {
                 for (k, poly) in polys.into_iter().enumerate() {
