@@ -68,7 +68,7 @@ pub struct ContinuationParams {
     /// iterations, which then integrate the plain flows alone (see `correct`); `false`:
     /// Newton, a linearisation at every iteration. Default `false`: on the DTU bogie and car
     /// the chord halves the diagram's time with the same V_NL, but on the S1002 bogie it
-    /// changed the branch's path (see [`MAX_CORRECTION`]) and on the S1002 car it took 800
+    /// changed the branch's path (see docs/performance.md, "Chord correctors") and on the S1002 car it took 800
     /// cycles and 121 s where Newton takes 579 cycles and 71 s.
     pub chord: bool,
 }
@@ -416,8 +416,9 @@ impl<'a, const N: usize, F: VectorField<N>> Continuation<'a, N, F> {
     /// integrate the plain flows alone for the residual ([`Shooting::residual_chord`]). The
     /// matrix is renewed when a chord update shrinks by less than [`CHORD_RATE`], and once more
     /// at the orbit the chords converged to: every accepted orbit ends, as with Newton, on a
-    /// linearisation at the problem's tolerance whose update is at most `newton_tol`, and its
-    /// multipliers, extremes and tangent are that linearisation's.
+    /// linearisation at the problem's tolerance, whose update is at most `newton_tol` (Newton)
+    /// or [`CONFIRM`] × `newton_tol` (after converged chords), and its multipliers, extremes
+    /// and tangent are that linearisation's. Only with `params.chord`; otherwise Newton.
     fn correct(
         &self,
         zp: &DVector<f64>,

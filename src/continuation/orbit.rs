@@ -110,6 +110,19 @@ impl<const N: usize> SegmentSeed<N> {
         self.segments.get(i).map(|s| s.start)
     }
 
+    /// The end of the shooting interval with the interior mismatches carried through by the
+    /// segments' Φ (the second value of [`condensed`](Self::condensed), without its matrix
+    /// products).
+    fn condensed_end(&self) -> SVector<f64, N> {
+        let mut c = SVector::<f64, N>::zeros();
+        for (s, next) in self.segments.iter().zip(self.segments.iter().skip(1)) {
+            c = s.phi * c + (s.end - next.start);
+        }
+        self.segments
+            .last()
+            .map_or(self.z.x0, |last| last.end + last.phi * c)
+    }
+
     /// The condensed linearisation of these segments: the monodromy $Φ_{m−1}\cdotsΦ_0$, the
     /// end of the shooting interval with the interior mismatches carried through, and the
     /// $N × (N + 2)$ Jacobian $[∂G/∂x_0 \;|\; ∂G/∂T \;|\; ∂G/∂p]$ of the residual ($G = $ end
@@ -400,10 +413,12 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
     /// chord update of the whole multiple-shooting system. The returned seed carries the new
     /// starts and ends with the frozen derivatives (the next chord iteration's).
     ///
-    /// A plain flow costs a fifteenth of a flow with its monodromy on the DTU car (the
-    /// variational equations are N + 1 times the state), so a chord iteration is that much
+    /// A plain flow costs a fraction of a flow with its monodromy (the variational equations
+    /// are N + 1 times the state; on the DTU car's call-graph profile the plain flows were a
+    /// fifteenth of the variational ones over the same spans), so a chord iteration is much
     /// cheaper than a Newton iteration; it converges linearly, at a rate set by how far the
-    /// frozen Jacobian is from the current one.
+    /// frozen Jacobian is from the current one. Only the condensed end is formed here, not the
+    /// frozen Jacobian, which the caller keeps factorised.
     pub fn residual_chord(
         &self,
         z: &OrbitPoint<N>,
@@ -454,7 +469,7 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
             });
         }
         let seed = SegmentSeed { z: *z, segments };
-        let (_, end, _) = seed.condensed(self.symmetric);
+        let end = seed.condensed_end();
         Ok(Chord {
             residual: self.residual_of(&z.x0, &end),
             steps,
