@@ -68,8 +68,8 @@ pub struct ContinuationParams {
     /// iterations, which then integrate the plain flows alone (see `correct`); `false`:
     /// Newton, a linearisation at every iteration. Default `false`: on the DTU bogie and car
     /// the chord halves the diagram's time with the same V_NL, but on the S1002 bogie it
-    /// changed the branch's path (see docs/performance.md, "Chord correctors") and on the S1002 car it took 800
-    /// cycles and 121 s where Newton takes 579 cycles and 71 s.
+    /// changed the branch's path (docs/performance.md, "Chord correctors") and on the S1002
+    /// car it took 800 cycles and 121 s where Newton takes 579 cycles and 71 s.
     pub chord: bool,
 }
 
