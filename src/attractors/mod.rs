@@ -223,6 +223,9 @@ pub struct SpeedRow {
     pub starts: usize,
     /// what they ended on
     pub outcomes: Vec<Outcome>,
+    /// a speed added between the grid's below the lowest hunting speed known (the grid's
+    /// spacing halved there), not one of the `speeds` of the grid
+    pub refined: bool,
 }
 
 /// V_NL by the search: the lowest speed with a hunting attractor (m/s), the bracket of its

@@ -9,6 +9,9 @@
 //! speed, until the motion is no longer the same attractor (it decays, jumps to another one,
 //! leaves the geometry's range or stops settling); the speed where it dies is then bracketed by
 //! bisection, each trial again started from the lowest state where it lived, to `bracket`.
+//! Below the lowest speed of a hunting motion known (of the attractors and of the continuation's
+//! V_NL), where another attractor would lower V_NL, the grid's spacing is then halved
+//! ([`refined_speeds`]) and the speeds added are searched like the grid's.
 
 use nalgebra::SVector;
 use rayon::prelude::*;
@@ -98,6 +101,12 @@ impl AttractorOptions {
     pub fn descents_only(mut self) -> Self {
         self.speeds = 0;
         self
+    }
+
+    /// The grid's spacing (m/s); `None` with fewer than two speeds.
+    pub fn spacing(&self) -> Option<f64> {
+        let (lo, hi) = self.speed_range;
+        (self.speeds >= 2).then(|| (hi - lo) / (self.speeds - 1) as f64)
     }
 
     /// The grid, highest speed first (one speed: the top of the range; none for
@@ -367,6 +376,10 @@ struct Ctx<'a> {
     progress: Option<&'a (dyn Fn(&str) + Sync)>,
     cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
     simulations: std::sync::atomic::AtomicUsize,
+    /// the kicks, the same at every speed ([`kicks`])
+    kicked: Vec<(StartKind, String, Vec<f64>)>,
+    /// the continuation the search starts from, where one ran
+    continued: Option<&'a BifurcationReport>,
 }
 
 impl Ctx<'_> {
@@ -786,7 +799,12 @@ fn identify(
 /// Whether an attractor already followed covers the motion `m`: its descent passes within 5 %
 /// of `m`'s speed with the same motion (amplitudes within a fifth).
 fn covered(attractors: &[Attractor], m: &Motion) -> bool {
-    attractors.iter().any(|a| {
+    covering(attractors, m).is_some()
+}
+
+/// The attractor (its index) whose descent covers the motion `m`, as in [`covered`].
+fn covering(attractors: &[Attractor], m: &Motion) -> Option<usize> {
+    attractors.iter().position(|a| {
         a.path
             .iter()
             .any(|p| (p.speed_m_s - m.speed_m_s).abs() <= 0.05 * m.speed_m_s && same(p, m, 0.2))
@@ -1049,6 +1067,112 @@ fn non_attractors(
     out
 }
 
+/// What the search has found so far, grown speed by speed.
+#[derive(Default)]
+struct Found {
+    attractors: Vec<Attractor>,
+    rows: Vec<SpeedRow>,
+    notes: Vec<String>,
+    /// every initial state used, in words (the kicks, then the continued cycles as they occur)
+    starts_listed: Vec<(StartKind, String)>,
+}
+
+/// One speed of the grid: the kicks and the continuation's stable cycles there simulated (in
+/// parallel) and classified, each hunting motion identified (a known attractor or a new one),
+/// the new ones followed down through the speeds `searched` (highest first), the speed's row
+/// added. At a `refined` speed, between the grid's, a motion is a known attractor also where
+/// that attractor's descent passed within 5 % of the speed with the same motion ([`covered`]),
+/// since no descent stopped at it.
+fn search_speed<const N: usize>(
+    ctx: &Ctx<'_>,
+    found: &mut Found,
+    v: f64,
+    searched: &[f64],
+    refined: bool,
+) {
+    let mut starts = ctx.kicked.clone();
+    for c in continued_starts(ctx.continued, v) {
+        if !found.starts_listed.iter().any(|s| s.1 == c.1) {
+            found.starts_listed.push((c.0, c.1.clone()));
+        }
+        starts.push(c);
+    }
+    ctx.say(&format!(
+        "  {v:.2} m/s{}: {} initial states",
+        if refined { " (refined)" } else { "" },
+        starts.len()
+    ));
+    let motions: Vec<Motion> = if ctx.opts.parallel {
+        starts
+            .par_iter()
+            .map(|s| ctx.classify::<N>(v, &s.2))
+            .collect()
+    } else {
+        starts.iter().map(|s| ctx.classify::<N>(v, &s.2)).collect()
+    };
+    // each motion: a known attractor (its path passes this speed), a new one, or none
+    let mut ids: Vec<Option<usize>> = Vec::with_capacity(motions.len());
+    let mut fresh: Vec<usize> = Vec::new();
+    for m in &motions {
+        if !m.kind.is_hunting() {
+            ids.push(None);
+            continue;
+        }
+        let near = refined.then(|| covering(&found.attractors, m)).flatten();
+        let id =
+            near.unwrap_or_else(|| identify(&mut found.attractors, &mut fresh, m, ctx.continued));
+        ids.push(Some(id));
+    }
+    found.notes.extend(non_attractors(
+        v,
+        &motions,
+        &starts,
+        ctx.opts.geometry_limit,
+    ));
+    follow::<N>(ctx, &mut found.attractors, &fresh, searched, ctx.continued);
+    found.rows.push(SpeedRow {
+        speed_m_s: v,
+        starts: motions.len(),
+        outcomes: outcomes(&motions, &ids),
+        refined,
+    });
+}
+
+/// The lowest speed at which a hunting motion is known: the lowest of the search's attractors
+/// and the continuation's V_NL.
+fn lowest_hunting(attractors: &[Attractor], continued: Option<&BifurcationReport>) -> Option<f64> {
+    attractors
+        .iter()
+        .filter(|a| a.kind.is_hunting())
+        .map(Attractor::lowest_m_s)
+        .chain(
+            continued
+                .and_then(|r| r.nonlinear_critical_speed)
+                .map(|v| v.0),
+        )
+        .min_by(f64::total_cmp)
+}
+
+/// The speeds that halve the grid's spacing `h` (m/s) below `top` (the lowest speed of a
+/// hunting motion known, m/s): the midpoint of every gap wider than h/2 between neighbouring
+/// speeds of `top` and the speeds `searched` below it. Any attractor that would lower V_NL
+/// lives below `top`; one that lives over a span of speeds wider than h/2 there (within the
+/// grid's range) then meets a speed of the grid or of these. Highest first.
+fn refined_speeds(searched: &[f64], top: f64, h: f64) -> Vec<f64> {
+    let mut points: Vec<f64> = searched
+        .iter()
+        .copied()
+        .filter(|&v| v < top - 1e-9)
+        .collect();
+    points.push(top);
+    points.sort_by(|x, y| y.total_cmp(x));
+    points
+        .windows(2)
+        .filter(|w| w[0] - w[1] > 0.5 * h * (1.0 + 1e-9))
+        .map(|w| 0.5 * (w[0] + w[1]))
+        .collect()
+}
+
 /// Runs the search; `progress` gets a line of text per speed and per descent, `cancel` is asked
 /// between simulations' batches.
 pub fn search(
@@ -1095,53 +1219,20 @@ fn search_states<const N: usize>(
         progress,
         cancel,
         simulations: std::sync::atomic::AtomicUsize::new(0),
+        kicked: kicks(model, &opts.amplitudes),
+        continued,
     };
     let grid = opts.grid();
-    let kicked = kicks(model, &opts.amplitudes);
-    let mut starts_listed: Vec<(StartKind, String)> =
-        kicked.iter().map(|k| (k.0, k.1.clone())).collect();
-    let mut attractors: Vec<Attractor> = Vec::new();
-    let mut rows = Vec::new();
-    let mut notes = Vec::new();
+    let mut found = Found {
+        starts_listed: ctx.kicked.iter().map(|k| (k.0, k.1.clone())).collect(),
+        ..Found::default()
+    };
     for &v in &grid {
         if ctx.cancelled() {
-            notes.push("cancelled".into());
+            found.notes.push("cancelled".into());
             break;
         }
-        let mut starts = kicked.clone();
-        for c in continued_starts(continued, v) {
-            if !starts_listed.iter().any(|s| s.1 == c.1) {
-                starts_listed.push((c.0, c.1.clone()));
-            }
-            starts.push(c);
-        }
-        ctx.say(&format!("  {v:.2} m/s: {} initial states", starts.len()));
-        let motions: Vec<Motion> = if opts.parallel {
-            starts
-                .par_iter()
-                .map(|s| ctx.classify::<N>(v, &s.2))
-                .collect()
-        } else {
-            starts.iter().map(|s| ctx.classify::<N>(v, &s.2)).collect()
-        };
-        // each motion: a known attractor (its path passes this speed), a new one, or none
-        let mut ids: Vec<Option<usize>> = Vec::with_capacity(motions.len());
-        let mut fresh: Vec<usize> = Vec::new();
-        for m in &motions {
-            if !m.kind.is_hunting() {
-                ids.push(None);
-                continue;
-            }
-            let id = identify(&mut attractors, &mut fresh, m, continued);
-            ids.push(Some(id));
-        }
-        notes.extend(non_attractors(v, &motions, &starts, opts.geometry_limit));
-        follow::<N>(&ctx, &mut attractors, &fresh, &grid, continued);
-        rows.push(SpeedRow {
-            speed_m_s: v,
-            starts: motions.len(),
-            outcomes: outcomes(&motions, &ids),
-        });
+        search_speed::<N>(&ctx, &mut found, v, &grid, false);
     }
     // the continuation's lowest stable cycles, each checked by a descent of its own unless an
     // attractor already followed passes there
@@ -1169,12 +1260,12 @@ fn search_states<const N: usize>(
             // a seed that hunts: followed as a motion of its own unless an attractor already
             // followed passes its speed with its motion (then it is that attractor)
             if m.kind.is_hunting() {
-                identify(&mut attractors, &mut fresh, m, continued);
+                identify(&mut found.attractors, &mut fresh, m, continued);
             }
             continue;
         }
         if !m.kind.is_hunting() {
-            notes.push(format!(
+            found.notes.push(format!(
                 "{} is not an attractor by simulation: {}{}",
                 e.2,
                 m.kind.name(),
@@ -1186,16 +1277,43 @@ fn search_states<const N: usize>(
             ));
             continue;
         }
-        let covered = attractors.iter().any(|a| {
+        let covered = found.attractors.iter().any(|a| {
             a.dies_m_s
                 .is_some_and(|d| d.1 <= m.speed_m_s + 2.0 * opts.bracket)
                 && a.path.iter().any(|p| same(p, m, 0.2))
         });
         if !covered {
-            identify(&mut attractors, &mut fresh, m, continued);
+            identify(&mut found.attractors, &mut fresh, m, continued);
         }
     }
-    follow::<N>(&ctx, &mut attractors, &fresh, &grid, continued);
+    follow::<N>(&ctx, &mut found.attractors, &fresh, &grid, continued);
+    // below the lowest hunting speed known, where another attractor would lower V_NL, the
+    // grid's spacing is halved (and again below a lower one that the new speeds find)
+    let mut searched = grid.clone();
+    while let (Some(h), Some(top)) = (opts.spacing(), lowest_hunting(&found.attractors, continued))
+    {
+        let new = refined_speeds(&searched, top, h);
+        if new.is_empty() || ctx.cancelled() {
+            break;
+        }
+        let listed: Vec<String> = new.iter().map(|v| format!("{v:.2}")).collect();
+        found.notes.push(format!(
+            "below {top:.2} m/s, the lowest speed of a hunting motion known then, the grid's spacing of {h:.2} m/s was halved: kicks also at {} m/s",
+            listed.join(", ")
+        ));
+        for v in new {
+            searched.push(v);
+            searched.sort_by(|x, y| y.total_cmp(x));
+            search_speed::<N>(&ctx, &mut found, v, &searched, true);
+        }
+    }
+    let Found {
+        mut attractors,
+        mut rows,
+        notes,
+        starts_listed,
+    } = found;
+    rows.sort_by(|x, y| y.speed_m_s.total_cmp(&x.speed_m_s));
     for (b, a) in merge_duplicates(&mut attractors, &mut rows, opts.bracket) {
         ctx.say(&format!(
             "  attractor {b} is attractor {a} (found again lower on its descent, dying in the same bracket): counted as attractor {a}"
@@ -1263,5 +1381,28 @@ mod slow_decay_tests {
         // three runs are not enough, and a run that grows is no decay
         assert!(slow_decay(&normal_form(-0.05, a, 2e-3, 3, 30.0)).is_none());
         assert!(slow_decay(&[1e-3, 8e-4, 9e-4, 5e-4]).is_none());
+    }
+}
+
+#[cfg(test)]
+mod refine_tests {
+    use super::refined_speeds;
+
+    /// Below the lowest hunting speed every gap wider than half the spacing gets its midpoint;
+    /// the gap to that speed itself counts, the speeds above it do not.
+    #[test]
+    fn the_gaps_below_the_lowest_hunting_speed_are_halved() {
+        let grid: Vec<f64> = (0..7).map(|i| 236.0 - 25.0 * i as f64).collect();
+        // 111 and 86 lie below 124: the gaps (124, 111) of 13 and (111, 86) of 25 exceed 12.5
+        let v = refined_speeds(&grid, 124.0, 25.0);
+        assert_eq!(v.len(), 2, "{v:?}");
+        assert!(
+            (v[0] - 117.5).abs() < 1e-12 && (v[1] - 98.5).abs() < 1e-12,
+            "{v:?}"
+        );
+        // a gap of exactly half the spacing is not split again, and nothing lies below 86
+        let v = refined_speeds(&[111.0, 98.5, 86.0], 110.9, 25.0);
+        assert!(v.is_empty(), "{v:?}");
+        assert!(refined_speeds(&grid, 80.0, 25.0).is_empty());
     }
 }

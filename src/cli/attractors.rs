@@ -56,11 +56,15 @@ pub(super) fn table(r: &AttractorReport, b: &BifurcationReport) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "\nstudy '{}': attractors over [{:.2}, {:.2}] m/s ({} speeds, up to {} initial states each, {} simulations)",
+        "\nstudy '{}': attractors over [{:.2}, {:.2}] m/s ({} speeds{}, up to {} initial states each, {} simulations)",
         r.study,
         r.options.speed_range.0,
         r.options.speed_range.1,
-        r.speeds.len(),
+        r.speeds.iter().filter(|x| !x.refined).count(),
+        match r.speeds.iter().filter(|x| x.refined).count() {
+            0 => String::new(),
+            k => format!(" and {k} between them below the lowest hunting speed"),
+        },
         r.starts.len(),
         r.simulations
     );

@@ -155,7 +155,18 @@ pub(super) fn run(
         vnl_grid,
     };
     let linear = |x: f64| point_at(&study, tp, x, false);
-    let whole = |x: f64| point_at(&study, tp, x, true);
+    let whole = |x: f64| {
+        statusln!("  one-point computation at {} = {x:e}", axis.key);
+        let t = Instant::now();
+        let r = point_at(&study, tp, x, true);
+        let vnl = match (r.nonlinear_m_s, r.failures.is_empty()) {
+            (Some(v), _) => format!("V_NL {v:.4} m/s"),
+            (None, true) => "no V_NL".to_string(),
+            (None, false) => format!("failed: {}", r.failures.join("; ")),
+        };
+        statusln!("  computed in {:.2} s: {vnl}", t.elapsed().as_secs_f64());
+        r
+    };
     let settle = |x: f64, curves_m_s: f64, one_point: Option<f64>| {
         statusln!(
             "  settling V_NL at {} = {x:e}: {curves_m_s:.3} m/s on the curves, {} by the one-point computation; simulating from the fold curves' cycles",

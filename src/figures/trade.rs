@@ -109,25 +109,41 @@ pub fn trade_curve(study: &str, plan: &TradePlan, axis: &KeyAxis, t: &CurveTrade
             });
         }
         // the settled V_NL (a fold cycle's attractor simulated) at the verification's value and,
-        // where the best design moved, at the settled best
+        // where the best design moved, its judged V_NL there
         let mut settled: Vec<(f64, f64)> = Vec::new();
         if let Some(y) = v.settlement.as_ref().and_then(|s| s.nonlinear_m_s) {
             settled.push((v.x * f, y));
         }
+        let mut moved: Vec<(f64, f64)> = Vec::new();
         if let Some(se) = &v.settled {
-            if let (Some(x), Some(y)) = (se.x, se.settlement.as_ref().and_then(|s| s.nonlinear_m_s))
-            {
-                settled.push((x * f, y));
+            if let Some(x) = se.x {
+                let label = match se.by {
+                    crate::trade::intervals::Inward::Simulation => "settled best",
+                    crate::trade::intervals::Inward::OnePoint => "best moved inward",
+                };
                 fig.vlines.push(Marker {
                     at: x * f,
-                    label: format!("settled best {}", crate::trade::plan::fmt_si(x * f)),
+                    label: format!("{label} {}", crate::trade::plan::fmt_si(x * f)),
                 });
+                if let Some(y) = se.nonlinear_m_s {
+                    match se.by {
+                        crate::trade::intervals::Inward::Simulation => settled.push((x * f, y)),
+                        crate::trade::intervals::Inward::OnePoint => moved.push((x * f, y)),
+                    }
+                }
             }
         }
         if !settled.is_empty() {
             fig.series.push(Series {
                 name: "V_NL settled by simulating the fold cycles".into(),
                 points: settled,
+                style: Style::Points,
+            });
+        }
+        if !moved.is_empty() {
+            fig.series.push(Series {
+                name: "V_NL by the one-point computation at the best moved inward".into(),
+                points: moved,
                 style: Style::Points,
             });
         }

@@ -80,6 +80,7 @@ pub fn attractors_json(r: &AttractorReport, b: &BifurcationReport) -> Value {
         .map(|s| {
             json!({
                 "speed_m_s": s.speed_m_s,
+                "refined": s.refined,
                 "initial_states": s.starts,
                 "outcomes": s.outcomes.iter().map(|o| json!({
                     "attractor": o.attractor,

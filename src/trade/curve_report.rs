@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use serde_json::{json, Map, Value};
 
 use super::curve::{KeyAxis, VnlSource};
-use super::intervals::{CurveTrade, End};
+use super::intervals::{CurveTrade, End, Inward};
 use super::plan::fmt_si;
 use super::table::{csv_field, Row};
 use super::{display_unit, ResultKind, Sense, TradePlan};
@@ -120,14 +120,16 @@ pub fn summary(
         for r in plan.read_results() {
             if let (Some(c), Some(p)) = (v.computed.result(r), v.predicted.result(r)) {
                 if (c - p).abs() > 1e-3 * p.abs() {
-                    let why = if r == ResultKind::NonlinearCriticalSpeed && c > p {
+                    let why = if r != ResultKind::NonlinearCriticalSpeed {
+                        ""
+                    } else if c > p {
                         if v.settlement.is_some() {
                             ": settled by simulation below"
                         } else {
                             ": not settled"
                         }
                     } else {
-                        ""
+                        ": the one-point computation's is the lower (a hunting motion the curves do not follow) and is taken"
                     };
                     let _ = writeln!(
                         s,
@@ -154,19 +156,34 @@ pub fn summary(
                 100.0 * v.margin
             );
         } else if let Some(se) = &v.settled {
+            let (once, moved) = match se.by {
+                Inward::Simulation => ("once settled", "settled by simulation"),
+                Inward::OnePoint => (
+                    "by the one-point computation",
+                    "moved inward by one-point computations",
+                ),
+            };
             let _ = writeln!(
                 s,
-                "  the curves' best design does not meet the constraints once settled: {}",
+                "  the curves' best design does not meet the constraints {once}: {}",
                 v.reason
             );
             match se.x {
                 Some(x) => {
                     let _ = writeln!(
                         s,
-                        "best (settled by simulation): {key} = {}; {}",
+                        "best ({moved}): {key} = {}; {}",
                         key_text(plan, x),
                         se.how
                     );
+                    if let Some(row) = &se.computed {
+                        let _ = writeln!(
+                            s,
+                            "  there (smallest margin {:+.3} %): computed {}",
+                            100.0 * se.margin,
+                            results_text(plan, row)
+                        );
+                    }
                     if let Some(st) = &se.settlement {
                         let _ = writeln!(
                             s,
@@ -178,7 +195,7 @@ pub fn summary(
                     }
                 }
                 None => {
-                    let _ = writeln!(s, "best (settled by simulation): none; {}", se.how);
+                    let _ = writeln!(s, "best ({moved}): none; {}", se.how);
                 }
             }
         } else {
@@ -265,6 +282,8 @@ pub fn json(
                 "settlement": v.settlement.as_ref().map(settlement_json),
                 "settled_best": v.settled.as_ref().map(|se| json!({
                     "objective_si": se.x, "unit": unit, "margin": se.margin.is_finite().then_some(se.margin),
+                    "by": se.by.name(), "nonlinear_critical_speed_m_s": se.nonlinear_m_s,
+                    "computed_m_s": se.computed.as_ref().map(|r| speeds(plan, r)),
                     "evaluations": se.evaluations, "how": se.how,
                     "settlement": se.settlement.as_ref().map(settlement_json) })) })
     });

@@ -337,48 +337,74 @@ fn verify(on: &OnCurves, points: &PointAt, interval: &Interval, b: &Best) -> Ver
     };
     let computed = row_of(&ax.key, x, &(points.whole)(x));
     let predicted = on.sample(x).row;
-    // the curves lower than the one-point computation (beyond the summary's 1e-3): the
-    // disagreement is settled by simulating the curves' fold cycles
     let vnl = ResultKind::NonlinearCriticalSpeed;
     let one_point = computed.result(vnl);
-    let settlement = match predicted.result(vnl) {
-        Some(p)
-            if on.plan.read_results().contains(&vnl)
-                && one_point.is_none_or(|c| c > p * (1.0 + DIFFER)) =>
-        {
-            Some((points.settle)(x, p, one_point))
-        }
-        _ => None,
-    };
-    let mut judged = computed.clone();
-    if let (Some(v), Some(i)) = (
-        settlement.as_ref().and_then(|s| s.nonlinear_m_s),
-        ResultKind::ALL.iter().position(|k| *k == vnl),
-    ) {
-        judged.results[i] = Some(v);
-    }
+    let settlement = settle_if_lower(on, points, x, &predicted, one_point);
+    let judged = judged_row(&computed, settlement.as_ref());
     let reason = infeasibility(on.plan, &judged);
     let feasible = reason.is_none();
-    // a settled V_NL below the bound: the interval's end moves inward to where the settled
-    // V_NL meets it
-    let settled = match &settlement {
-        Some(st)
-            if !feasible
-                && st
-                    .nonlinear_m_s
-                    .is_some_and(|v| one_point.is_none_or(|o| v < o)) =>
-        {
-            Some(settled_end(
-                on,
-                points,
-                interval,
-                x,
-                &computed,
-                one_point,
-                margin(on.plan, &judged),
-            ))
-        }
-        _ => None,
+    let lower_by_one_point = matches!(
+        (one_point, predicted.result(vnl)),
+        (Some(c), Some(p)) if c < p * (1.0 - DIFFER)
+    );
+    // a judged V_NL below the bound: the interval's end moves inward to where it meets it, by
+    // simulation where the settlement lowered V_NL, by one-point computations where the
+    // one-point computation itself was the lower
+    let settled = if feasible || !on.plan.read_results().contains(&vnl) {
+        None
+    } else if settlement
+        .as_ref()
+        .and_then(|st| st.nonlinear_m_s)
+        .is_some_and(|v| one_point.is_none_or(|o| v < o))
+    {
+        let judge = |x: f64| {
+            let curves = on
+                .sample(x)
+                .row
+                .result(vnl)
+                .or(one_point)
+                .unwrap_or(f64::NAN);
+            let st = (points.settle)(x, curves, one_point);
+            let mut row = computed.clone();
+            row.axes = vec![(ax.key.clone(), x)];
+            let row = judged_row(&row, Some(&st));
+            Judged {
+                margin: margin(on.plan, &row),
+                nonlinear_m_s: row.result(vnl),
+                settlement: Some(st),
+                computed: None,
+            }
+        };
+        Some(settled_end(
+            on,
+            interval,
+            x,
+            margin(on.plan, &judged),
+            Inward::Simulation,
+            &judge,
+        ))
+    } else if lower_by_one_point {
+        let judge = |x: f64| {
+            let row = row_of(&ax.key, x, &(points.whole)(x));
+            let st = settle_if_lower(on, points, x, &on.sample(x).row, row.result(vnl));
+            let j = judged_row(&row, st.as_ref());
+            Judged {
+                margin: margin(on.plan, &j),
+                nonlinear_m_s: j.result(vnl),
+                settlement: st,
+                computed: Some(row),
+            }
+        };
+        Some(settled_end(
+            on,
+            interval,
+            x,
+            margin(on.plan, &judged),
+            Inward::OnePoint,
+            &judge,
+        ))
+    } else {
+        None
     };
     Verification {
         x,
@@ -393,17 +419,79 @@ fn verify(on: &OnCurves, points: &PointAt, interval: &Interval, b: &Best) -> Ver
     }
 }
 
-/// The best design moved to where the settled V_NL meets its bound.
+/// Where the curves' V_NL at `x` is lower than the one-point computation's (beyond
+/// [`DIFFER`]), the disagreement settled by simulating the curves' fold cycles there.
+fn settle_if_lower(
+    on: &OnCurves,
+    points: &PointAt,
+    x: f64,
+    predicted: &Row,
+    one_point: Option<f64>,
+) -> Option<super::settle::Settlement> {
+    let vnl = ResultKind::NonlinearCriticalSpeed;
+    match predicted.result(vnl) {
+        Some(p)
+            if on.plan.read_results().contains(&vnl)
+                && one_point.is_none_or(|c| c > p * (1.0 + DIFFER)) =>
+        {
+            Some((points.settle)(x, p, one_point))
+        }
+        _ => None,
+    }
+}
+
+/// The one-point computation's row with V_NL replaced by the settlement's, where there is one.
+fn judged_row(computed: &Row, settlement: Option<&super::settle::Settlement>) -> Row {
+    let mut judged = computed.clone();
+    let vnl = ResultKind::NonlinearCriticalSpeed;
+    if let (Some(v), Some(i)) = (
+        settlement.and_then(|s| s.nonlinear_m_s),
+        ResultKind::ALL.iter().position(|k| *k == vnl),
+    ) {
+        judged.results[i] = Some(v);
+    }
+    judged
+}
+
+/// How the best design was moved inward.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Inward {
+    /// the curves' fold cycles simulated at each key value ([`super::settle`]), the
+    /// verification's one-point V_NL taken to hold nearby: the curves' V_NL was the lower one
+    Simulation,
+    /// the sweep's one-point computation (the whole diagram and, where the sweep uses it, the
+    /// attractor search) at each key value: its V_NL was the lower one, below the bound
+    OnePoint,
+}
+
+impl Inward {
+    /// For JSON: `"simulation"` or `"one-point"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Inward::Simulation => "simulation",
+            Inward::OnePoint => "one-point",
+        }
+    }
+}
+
+/// The best design moved inward to where its judged V_NL (settled by simulation, or by the
+/// one-point computation where that is the lower) meets its bound.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SettledEnd {
-    /// the key value (SI), on the feasible side; `None` when the settled V_NL stays below
-    /// its bound across the interval
+    /// the key value (SI), on the feasible side; `None` when the judged V_NL stays below its
+    /// bound across the interval
     pub x: Option<f64>,
-    /// the settlement there
+    /// how each key value on the way was judged
+    pub by: Inward,
+    /// the judged V_NL there (m/s)
+    pub nonlinear_m_s: Option<f64>,
+    /// the settlement there (by [`Inward::Simulation`], or where the curves were lower there)
     pub settlement: Option<super::settle::Settlement>,
+    /// the one-point computation's results there (by [`Inward::OnePoint`])
+    pub computed: Option<Row>,
     /// that design's smallest relative constraint margin
     pub margin: f64,
-    /// settlements computed
+    /// key values judged (settlements, or one-point computations)
     pub evaluations: usize,
     /// how it was found, in words
     pub how: String,
@@ -415,23 +503,28 @@ pub const SETTLED_STEP: f64 = 5e-3;
 /// See [`SETTLED_STEP`].
 pub const SETTLED_TOL: f64 = 5e-4;
 
-/// Where the settled V_NL (the curves' fold cycles simulated at each key value, against the
-/// one-point computation's V_NL at `x0`, which is taken to hold nearby) meets the bound,
-/// inward from the infeasible `x0`: steps of [`SETTLED_STEP`] of the axis span, doubling, to a
+/// A design judged at one key value on the way inward ([`settled_end`]).
+struct Judged {
+    margin: f64,
+    nonlinear_m_s: Option<f64>,
+    settlement: Option<super::settle::Settlement>,
+    computed: Option<Row>,
+}
+
+/// Where the judged V_NL meets the bound, inward from the infeasible `x0` (margin `m0`), each
+/// key value judged by `judge` (simulation of the curves' fold cycles, or one-point
+/// computations, as `by` says): steps of [`SETTLED_STEP`] of the axis span, doubling, to a
 /// feasible value (at most to the interval's other end), then the Illinois method to
 /// [`SETTLED_TOL`] of the span.
 fn settled_end(
     on: &OnCurves,
-    points: &PointAt,
     interval: &Interval,
     x0: f64,
-    computed: &Row,
-    one_point: Option<f64>,
     m0: f64,
+    by: Inward,
+    judge: &dyn Fn(f64) -> Judged,
 ) -> SettledEnd {
     let ax = on.axis;
-    let vnl = ResultKind::NonlinearCriticalSpeed;
-    let index = ResultKind::ALL.iter().position(|k| *k == vnl);
     let inward = match on.plan.objective.sense {
         Sense::Minimize => 1.0,
         Sense::Maximize => -1.0,
@@ -441,24 +534,20 @@ fn settled_end(
         Sense::Maximize => interval.from.x,
     };
     let (p0, p_far) = (ax.p(x0), ax.p(far));
-    let done = std::cell::RefCell::new(Vec::<(f64, super::settle::Settlement, f64)>::new());
+    let done = std::cell::RefCell::new(Vec::<(f64, Judged)>::new());
     let f = |p: f64| {
-        let x = ax.x(p);
-        let curves = on
-            .sample(x)
-            .row
-            .result(vnl)
-            .or(one_point)
-            .unwrap_or(f64::NAN);
-        let st = (points.settle)(x, curves, one_point);
-        let mut row = computed.clone();
-        row.axes = vec![(ax.key.clone(), x)];
-        if let (Some(i), Some(v)) = (index, st.nonlinear_m_s) {
-            row.results[i] = Some(v);
-        }
-        let m = margin(on.plan, &row);
-        done.borrow_mut().push((p, st, m));
+        let j = judge(ax.x(p));
+        let m = j.margin;
+        done.borrow_mut().push((p, j));
         m
+    };
+    let what = match by {
+        Inward::Simulation => "settlements",
+        Inward::OnePoint => "one-point computations",
+    };
+    let judged_v = match by {
+        Inward::Simulation => "settled V_NL",
+        Inward::OnePoint => "one-point computation's V_NL",
     };
     let mut step = SETTLED_STEP * ax.span_p();
     let mut bad = (p0, m0);
@@ -477,36 +566,46 @@ fn settled_end(
         step *= 2.0;
     }
     let Some(good) = good else {
-        let n = done.borrow().len();
+        let mut list = done.into_inner();
+        let n = list.len();
+        let last = list.pop().map(|d| d.1);
         return SettledEnd {
             x: None,
-            settlement: done.borrow_mut().pop().map(|d| d.1),
+            by,
+            nonlinear_m_s: last.as_ref().and_then(|j| j.nonlinear_m_s),
+            settlement: last.as_ref().and_then(|j| j.settlement.clone()),
+            computed: last.and_then(|j| j.computed),
             margin: bad.1,
             evaluations: n,
             how: format!(
-                "the settled V_NL stays below its bound from {x0:e} to the interval's other end {far:e}: no design of this interval is confirmed feasible"
+                "the {judged_v} stays below its bound from {x0:e} to the interval's other end {far:e} ({n} {what}): no design of this interval is confirmed feasible"
             ),
         };
     };
     let (p, _) = locate(&f, good, bad, SETTLED_TOL * ax.span_p());
     let list = done.into_inner();
     let n = list.len();
-    let (settlement, m) = list
-        .into_iter()
-        .rev()
-        .find(|d| d.0 == p)
-        .map(|d| (Some(d.1), d.2))
-        .unwrap_or((None, f64::NAN));
+    // the infeasible value judged nearest the feasible end: the bracket's other side
+    let beyond = list
+        .iter()
+        .filter(|d| d.1.margin < 0.0)
+        .map(|d| d.0)
+        .chain(std::iter::once(p0))
+        .min_by(|a, b| (a - p).abs().total_cmp(&(b - p).abs()))
+        .unwrap_or(bad.0);
+    let there = list.into_iter().rev().find(|d| d.0 == p).map(|d| d.1);
     SettledEnd {
         x: Some(ax.x(p)),
-        settlement,
-        margin: m,
+        by,
+        nonlinear_m_s: there.as_ref().and_then(|j| j.nonlinear_m_s),
+        margin: there.as_ref().map_or(f64::NAN, |j| j.margin),
+        settlement: there.as_ref().and_then(|j| j.settlement.clone()),
+        computed: there.and_then(|j| j.computed),
         evaluations: n,
         how: format!(
-            "the settled V_NL meets its bound between {:e} and {:e} ({} settlements: steps inward from the verification's value, then the Illinois method to {SETTLED_TOL} of the {} axis span); the feasible side is given",
+            "the {judged_v} meets its bound between {:e} and {:e} ({n} {what}: steps inward from the verification's value, then the Illinois method to {SETTLED_TOL} of the {} axis span); the feasible side is given",
             ax.x(p),
-            ax.x(bad.0),
-            n,
+            ax.x(beyond),
             if ax.log { "ln-key" } else { "key" }
         ),
     }
