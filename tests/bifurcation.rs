@@ -237,6 +237,101 @@ fn a_looser_floquet_tolerance_keeps_the_special_points_on_fewer_steps() {
     assert!(loose.stats.integrator_steps < reference.stats.integrator_steps);
 }
 
+/// `[bifurcation] corrector = "chord"` on the DTU bogie (a smooth contact table): the same
+/// special points as Newton's corrector, each speed to 1e-8 relative (both are converged to
+/// the Newton tolerance, a chord orbit's last update within 100 of them), the same V_NL, a
+/// trivial multiplier within 1e-4 of 1 on every cycle; and fewer linearisations, since each
+/// corrector keeps one for the iterations after it.
+#[test]
+fn the_chord_corrector_finds_newtons_special_points_on_the_dtu_bogie() {
+    let path = format!(
+        "{}/studies/dtu-cooperrider-bogie.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(&path).expect("study reads");
+    assert!(
+        text.contains("\n[bifurcation]\n"),
+        "the study has [bifurcation]"
+    );
+    let dir = std::path::Path::new(&path).parent().expect("studies/");
+    let chord_text = text.replace(
+        "\n[bifurcation]\n",
+        "\n[bifurcation]\ncorrector = \"chord\"\n",
+    );
+    let newton_plan = study::parse_in(&text, "newton", Some(dir)).expect("study parses");
+    let chord_plan = study::parse_in(&chord_text, "chord", Some(dir)).expect("study parses");
+    assert!(chord_plan.bifurcation_options().chord);
+    assert!(!newton_plan.bifurcation_options().chord);
+    let model = newton_plan.model().expect("model builds");
+    let newton = analyse("newton", &model, &newton_plan.bifurcation_options()).expect("runs");
+    let chord = analyse("chord", &model, &chord_plan.bifurcation_options()).expect("runs");
+    let kinds = |r: &critspeed::bifurcation::BifurcationReport| {
+        r.special.iter().map(|s| s.kind).collect::<Vec<_>>()
+    };
+    assert!(newton.special.len() >= 2, "{:?}", kinds(&newton));
+    assert_eq!(kinds(&newton), kinds(&chord));
+    for (a, b) in newton.special.iter().zip(&chord.special) {
+        let rel = (a.speed_m_s - b.speed_m_s).abs() / a.speed_m_s;
+        println!(
+            "{:?}: {} and {} m/s ({rel:.1e})",
+            a.kind, a.speed_m_s, b.speed_m_s
+        );
+        assert!(
+            rel < 1e-8,
+            "{:?} {} vs {}",
+            a.kind,
+            a.speed_m_s,
+            b.speed_m_s
+        );
+    }
+    let (vn, vc) = (
+        newton.nonlinear_critical_speed.expect("V_NL").0,
+        chord.nonlinear_critical_speed.expect("V_NL").0,
+    );
+    assert!((vn - vc).abs() < 1e-6 * vn, "{vn} {vc}");
+    for c in &chord.cycles {
+        assert!(
+            c.trivial_multiplier_error < 1e-4,
+            "{}",
+            c.trivial_multiplier_error
+        );
+    }
+    let per_cycle = |r: &critspeed::bifurcation::BifurcationReport| {
+        r.stats.newton_iterations as f64 / r.cycles.len() as f64
+    };
+    println!(
+        "linearisations per cycle: Newton {:.2}, chord {:.2} (+ {:.2} chord iterations)",
+        per_cycle(&newton),
+        per_cycle(&chord),
+        chord.stats.chord_iterations as f64 / chord.cycles.len() as f64
+    );
+    assert_eq!(newton.stats.chord_iterations, 0);
+    assert!(chord.stats.chord_iterations > 0);
+    assert!(per_cycle(&chord) < per_cycle(&newton));
+}
+
+/// A corrector other than "newton" or "chord" is refused, naming the key.
+#[test]
+fn an_unknown_corrector_is_refused() {
+    let text = std::fs::read_to_string(format!(
+        "{}/studies/seed-hunting.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .expect("study reads");
+    for bad in ["\"Newton\"", "\"broyden\"", "1"] {
+        let t = format!("{text}\n[bifurcation]\ncorrector = {bad}\n");
+        let e = study::parse(&t, "test").expect_err("refused");
+        let msg = e.to_string();
+        // a value that is not a string fails as TOML, which quotes the line
+        let key = if bad == "1" {
+            "corrector = 1"
+        } else {
+            "bifurcation.corrector"
+        };
+        assert!(msg.contains(key), "{msg}");
+    }
+}
+
 /// A Floquet tolerance tighter than the cycles' or looser than 1e-4 is refused, naming the key.
 #[test]
 fn a_floquet_tolerance_outside_its_range_is_refused() {

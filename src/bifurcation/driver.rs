@@ -211,6 +211,7 @@ pub(super) fn analyse_and_track<const N: usize>(
     params.ds_initial = 0.1;
     params.ds_max = opts.ds_max;
     params.max_points = opts.max_points;
+    params.chord = opts.chord;
     // Newton cannot converge below the integration noise: tie its tolerance to rtol.
     params.newton_tol = newton_tol(opts.rtol, N);
     // a branch that runs into stiffness (low speeds) ends with its reason instead of

@@ -73,6 +73,14 @@ pub struct BifurcationOptions {
     /// do not depend on `parallel` nor on the thread count (bit for bit), and different counts
     /// agree to the Newton tolerance on the cycles they both find
     pub segments: usize,
+    /// the cycles' corrector (study key `[bifurcation] corrector`): `false` (default,
+    /// `"newton"`): every iteration linearises; `true` (`"chord"`): a linearisation is kept
+    /// for the iterations after it, which integrate the plain flows alone
+    /// ([`crate::continuation::ContinuationParams::chord`]). About 2× faster on the DTU
+    /// table's bogie and car with the same V_NL; on the S1002 car its branch zig-zags and
+    /// takes twice as long, and on a flange's period-doubling cascade it took another path
+    /// (docs/performance.md), so it is not the default
+    pub chord: bool,
     /// a flag another computation raises while it has the rayon pool busy: the diagram's
     /// integrations run serially while it is up (the same diagram); default `None`
     pub busy: Option<crate::continuation::PoolBusy>,
@@ -93,6 +101,7 @@ impl BifurcationOptions {
             max_points: 400,
             parallel: true,
             segments: 0,
+            chord: false,
             busy: None,
         }
     }

@@ -427,7 +427,11 @@ impl<'a, const N: usize, F: VectorField<N>> Shooting<'a, N, F> {
     ) -> Result<Chord<N>, OdeError> {
         let m = self.count();
         if frozen.segments.len() != m {
-            return Err(OdeError::NonFinite { t: 0.0 });
+            return Err(OdeError::BadArgument {
+                name: "the kept linearisation's segment count",
+                value: frozen.segments.len() as f64,
+                rule: "must equal the shooting's segment count",
+            });
         }
         let span = self.horizon(z.period) / m as f64;
         let starts = frozen.starts(z);

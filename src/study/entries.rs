@@ -271,6 +271,7 @@ pub fn entries(p: &Plan) -> Vec<Entry> {
         s.put("segments", Shown::Count(b.segments));
         s.text("switch", b.switch.to_string());
         s.put("max_branches", Shown::Count(b.max_branches));
+        s.text("corrector", if b.chord { "chord" } else { "newton" });
     }
     if let Some(a) = &p.attractors {
         let mut s = Section {

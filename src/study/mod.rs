@@ -471,6 +471,19 @@ fn bifurcation_plan(
         }
         o.max_branches = n;
     }
+    if let Some(c) = &b.corrector {
+        o.chord = match c.as_str() {
+            "newton" => false,
+            "chord" => true,
+            _ => {
+                return Err(rule(
+                    "bifurcation.corrector",
+                    format!("{c:?}"),
+                    "must be \"newton\" (a linearisation at every iteration) or \"chord\" (a linearisation kept over the iterations after it)",
+                ))
+            }
+        };
+    }
     Ok(o)
 }
 

@@ -437,6 +437,9 @@ pub struct BifurcationSection {
     /// branches continued at most (default 8)
     #[serde(default)]
     pub max_branches: Option<usize>,
+    /// the cycles' corrector: "newton" (default) or "chord"
+    #[serde(default)]
+    pub corrector: Option<String>,
 }
 
 /// `[attractors]`: the search for every attractor over speed.
