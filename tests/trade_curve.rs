@@ -302,19 +302,16 @@ fn the_onset_on_the_curves_is_the_stable_band_top() {
     assert!(checked >= 100, "{checked}");
 }
 
-/// studies/dtu-car-yaw-damper-trade.toml written to `dir/car-trade.toml` with `lines` added
-/// to its `[sweep]`, its table named by absolute path.
-fn car_trade_with(dir: &Path, lines: &str) -> PathBuf {
+/// studies/dtu-car-yaw-damper-trade.toml with `lines` added to its `[sweep]`, its table named
+/// by absolute path.
+fn car_trade_text(lines: &str) -> String {
     let table = root().join("studies/tables/dtu-rsgeo-1o40.csv");
-    let text = text("dtu-car-yaw-damper-trade.toml")
+    text("dtu-car-yaw-damper-trade.toml")
         .replace(
             "\"tables/dtu-rsgeo-1o40.csv\"",
             &format!("{:?}", table.to_str().expect("utf-8")),
         )
-        .replace("[sweep]", &format!("[sweep]\n{lines}"));
-    let path = dir.join("car-trade.toml");
-    std::fs::write(&path, text).expect("write");
-    path
+        .replace("[sweep]", &format!("[sweep]\n{lines}"))
 }
 
 /// The DTU car's yaw-damper trade (studies/dtu-car-yaw-damper-trade.toml) with its one-point
@@ -334,20 +331,12 @@ fn the_cars_trade_settles_its_disagreement_by_simulating_the_fold_cycle() {
     let dir = scratch("trade_curve_car_settle");
     let name = "dtu-car-yaw-damper-trade.toml";
     let path = root().join("studies").join(name);
-    let fast = car_trade_with(&dir, "attractors = false");
-    let out = critspeed(
-        &[
-            "trade",
-            "--json",
-            fast.to_str().expect("utf-8"),
-            "--out",
-            dir.to_str().expect("utf-8"),
-        ],
+    let (j, code, err) = trade_json(
         &dir,
+        "car-trade.toml",
+        &car_trade_text("attractors = false"),
     );
-    let err = String::from_utf8_lossy(&out.stderr).to_string();
-    assert_eq!(out.status.code(), Some(0), "{err}");
-    let j: Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(code, Some(0), "{err}");
     let v = &j["verification"];
     let st = &v["settlement"];
     assert_eq!(st["confirmed"], Value::Bool(true), "{st}");
@@ -414,20 +403,8 @@ fn the_cars_trade_settles_its_disagreement_by_simulating_the_fold_cycle() {
 #[test]
 fn the_cars_trade_moves_its_best_design_inward_where_the_search_hunts_lower() {
     let dir = scratch("trade_curve_car_inward");
-    let path = root().join("studies/dtu-car-yaw-damper-trade.toml");
-    let out = critspeed(
-        &[
-            "trade",
-            "--json",
-            path.to_str().expect("utf-8"),
-            "--out",
-            dir.to_str().expect("utf-8"),
-        ],
-        &dir,
-    );
-    let err = String::from_utf8_lossy(&out.stderr).to_string();
-    assert_eq!(out.status.code(), Some(0), "{err}");
-    let j: Value = serde_json::from_slice(&out.stdout).expect("json");
+    let (j, code, err) = trade_json(&dir, "car-trade.toml", &car_trade_text(""));
+    assert_eq!(code, Some(0), "{err}");
     let v = &j["verification"];
     let (one_point, curves) = (
         f(&v["computed_m_s"]["nonlinear_critical_speed"]),
