@@ -107,20 +107,57 @@ fn ishigami_indices_hold_the_closed_forms() {
     }
     let s = spec(3, 1 << 12, Method::Sobol, (-PI, PI));
     check("ishigami sobol", &indices_of(&s, ishigami), &first, &total);
-    let s = spec(3, 1 << 12, Method::Random, (-PI, PI));
-    let ix = indices_of(&s, ishigami);
-    for (i, (f, t)) in ix.iter().zip(first.iter().zip(&total)) {
-        // Monte Carlo at N = 4096: printed for the record; the quasi-random design above is the
-        // one held to its intervals; here a fixed tolerance of 0.06 (about 3 of its interval's
-        // half widths) guards the code path
-        println!(
-            "ishigami random {}: S {:.4} [{:.4}, {:.4}] (true {f:.4}); ST {:.4} [{:.4}, {:.4}] (true {t:.4})",
-            i.key, i.first_order, i.first_order_ci[0], i.first_order_ci[1], i.total, i.total_ci[0], i.total_ci[1]
-        );
-        assert!(
-            (i.first_order - f).abs() < 0.06 && (i.total - t).abs() < 0.06,
-            "{i:?}"
-        );
+    monte_carlo_keeps_its_promise("ishigami", 3, (-PI, PI), ishigami, &first, &total);
+}
+
+/// Monte Carlo designs (`method = "random"`): one design's 95 % interval misses the truth one
+/// time in twenty, so a single design is no test. Over 100 independent designs (seeds 1 to 100,
+/// N = 4096 each) each interval must cover the truth in at least 85 (binomial: 95 expected,
+/// standard deviation 2.2; measured over 200 designs, 185–192 of 200 for Ishigami's six and
+/// 184–192 for the linear model's eight: the bootstrap's percentile intervals cover a little
+/// under 95 %), and the mean of the 100 estimates must lie within 4 standard errors of the
+/// truth (the estimators unbiased).
+fn monte_carlo_keeps_its_promise(
+    name: &str,
+    d: usize,
+    range: (f64, f64),
+    f: impl Fn(&[f64]) -> f64,
+    first: &[f64],
+    total: &[f64],
+) {
+    let designs = 100;
+    let mut covered = vec![[0usize; 2]; d];
+    let mut estimates = vec![[Vec::new(), Vec::new()]; d];
+    for seed in 1..=designs {
+        let mut s = spec(d, 1 << 12, Method::Random, range);
+        s.seed = seed;
+        for (k, i) in indices_of(&s, &f).iter().enumerate() {
+            let (lo, hi) = (i.first_order_ci, i.total_ci);
+            covered[k][0] += usize::from(lo[0] <= first[k] && first[k] <= lo[1]);
+            covered[k][1] += usize::from(hi[0] <= total[k] && total[k] <= hi[1]);
+            estimates[k][0].push(i.first_order);
+            estimates[k][1].push(i.total);
+        }
+    }
+    for k in 0..d {
+        for (j, (what, truth)) in [("S", first[k]), ("ST", total[k])].into_iter().enumerate() {
+            let e = &estimates[k][j];
+            let n = e.len() as f64;
+            let mean = e.iter().sum::<f64>() / n;
+            let sd = (e.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+            println!(
+                "{name} random x{}: {what} covered by {} of {designs} intervals; mean {mean:.4} \
+                 (true {truth:.4}), spread {sd:.4}",
+                k + 1,
+                covered[k][j]
+            );
+            assert!(covered[k][j] >= 85, "{name} x{} {what}: {covered:?}", k + 1);
+            assert!(
+                (mean - truth).abs() <= 4.0 * sd / n.sqrt(),
+                "{name} x{} {what}: mean {mean} vs {truth} (spread {sd})",
+                k + 1
+            );
+        }
     }
 }
 
@@ -133,6 +170,7 @@ fn linear_model_indices_are_the_squared_coefficients() {
     // a large offset, as a critical speed has: the estimators must not depend on it
     let f = |x: &[f64]| 200.0 + x.iter().zip(&c).map(|(x, c)| x * c).sum::<f64>();
     check("linear", &indices_of(&s, f), &truth, &truth);
+    monte_carlo_keeps_its_promise("linear", 4, (0.0, 1.0), f, &truth, &truth);
 }
 
 fn seed_hunting() -> String {

@@ -111,8 +111,8 @@ impl<const N: usize> SegmentSeed<N> {
     }
 
     /// The end of the shooting interval with the interior mismatches carried through by the
-    /// segments' Φ (the second value of [`condensed`](Self::condensed), without its matrix
-    /// products).
+    /// segments' Φ (the second value of [`condensed`](Self::condensed), which takes it from
+    /// here; a chord iteration needs it alone).
     fn condensed_end(&self) -> SVector<f64, N> {
         let mut c = SVector::<f64, N>::zeros();
         for (s, next) in self.segments.iter().zip(self.segments.iter().skip(1)) {
@@ -129,21 +129,20 @@ impl<const N: usize> SegmentSeed<N> {
     /// $+ x_0$ for the symmetric half-period form, end $− x_0$ else).
     fn condensed(&self, symmetric: bool) -> (SMatrix<f64, N, N>, SVector<f64, N>, DMatrix<f64>) {
         let m = self.segments.len();
-        // δx_i = A δx0 + G δT + Q δp + C, condensed segment by segment
+        // δx_i = A δx0 + G δT + Q δp + C, condensed segment by segment (C in `condensed_end`)
         let mut a = SMatrix::<f64, N, N>::identity();
-        let (mut g, mut q, mut c) = (SVector::zeros(), SVector::zeros(), SVector::zeros());
-        for (i, s) in self.segments.iter().enumerate().take(m.saturating_sub(1)) {
+        let (mut g, mut q) = (SVector::zeros(), SVector::zeros());
+        for s in self.segments.iter().take(m.saturating_sub(1)) {
             a = s.phi * a;
             g = s.phi * g + s.d_t;
             q = s.phi * q + s.d_p;
-            c = s.phi * c + (s.end - self.segments[i + 1].start);
         }
+        let end = self.condensed_end();
         let mut jacobian = DMatrix::zeros(N, N + 2);
         let Some(last) = self.segments.last() else {
-            return (a, self.z.x0, jacobian);
+            return (a, end, jacobian);
         };
         let monodromy = last.phi * a;
-        let end = last.end + last.phi * c;
         let sign = if symmetric { 1.0 } else { -1.0 };
         let d_x0 = monodromy + SMatrix::<f64, N, N>::identity() * sign;
         jacobian.view_mut((0, 0), (N, N)).copy_from(&d_x0);
