@@ -717,3 +717,62 @@ fn a_choice_among_table_files_sets_each_evaluations_table() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// V_NL that is not a located point (the lowest stable cycle computed, or an attractor's open
+/// death bracket) is an upper bound: the report counts and names those evaluations in a note.
+#[test]
+fn unlocated_nonlinear_speeds_are_counted_in_a_note() {
+    let text = wheelset_text("unlocated").replace(
+        "compute = [\"kalker\"]",
+        "compute = [\"kalker\", \"nonlinear\"]",
+    );
+    let s = UncertaintyStudy::parse_in(&text, "test", None).expect("study");
+    let rows: Vec<critspeed::sweep::PointRecord> = (0..s.len())
+        .map(|id| critspeed::sweep::PointRecord {
+            id,
+            values: vec![300e3, 850e3],
+            kalker_m_s: Some(60.0),
+            hopf_m_s: None,
+            nonlinear_m_s: Some(70.0 + id as f64),
+            failures: Vec::new(),
+            kalker_frequency_hz: None,
+            hopf_frequency_hz: None,
+            nonlinear_located: Some(!matches!(id, 3 | 17)),
+            above_range: Vec::new(),
+            stable_up_to_m_s: None,
+            no_hopf: false,
+        })
+        .collect();
+    let rep = uncertainty::report::report(&s, &rows);
+    let q = |name: &str| {
+        rep.quantities
+            .iter()
+            .find(|q| q.name == name)
+            .unwrap_or_else(|| panic!("{name} in {rep:?}"))
+    };
+    let note = q("nonlinear")
+        .notes
+        .iter()
+        .find(|n| n.contains("unlocated"))
+        .unwrap_or_else(|| panic!("no unlocated note: {:?}", q("nonlinear").notes));
+    let want = format!("2 of the {} evaluations with a V_NL", s.len());
+    assert!(
+        note.contains(&want) && note.contains("(evaluations 3, 17)"),
+        "{note}"
+    );
+    assert!(note.contains("upper bound"), "{note}");
+    assert!(q("kalker").notes.iter().all(|n| !n.contains("unlocated")));
+    // every V_NL located: no note
+    let located: Vec<_> = rows
+        .into_iter()
+        .map(|mut r| {
+            r.nonlinear_located = Some(true);
+            r
+        })
+        .collect();
+    let rep = uncertainty::report::report(&s, &located);
+    assert!(rep
+        .quantities
+        .iter()
+        .all(|q| q.notes.iter().all(|n| !n.contains("unlocated"))));
+}

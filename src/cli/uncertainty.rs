@@ -212,6 +212,9 @@ fn table(rep: &uncertainty::UncertaintyReport) -> String {
             let search = rep.nonlinear_method.as_deref() == Some("search");
             s += &format!("    V_NL {}\n", crate::sweep::nonlinear_method(search).1);
         }
+        for n in &q.notes {
+            s += &format!("    note: {n}\n");
+        }
     }
     s
 }

@@ -85,7 +85,8 @@ pub struct PointRecord {
     pub kalker_frequency_hz: Option<f64>,
     /// hunting frequency at the Hopf speed (Hz)
     pub hopf_frequency_hz: Option<f64>,
-    /// whether V_NL was located (fold or supercritical Hopf) rather than the lowest stable cycle
+    /// whether V_NL was located (a fold, a supercritical Hopf point, an attractor's closed death
+    /// bracket) rather than the lowest stable cycle computed or an open bracket (an upper bound)
     pub nonlinear_located: Option<bool>,
     /// the results with no onset in the speed range (sorted, in [`Computed::ALL`] order)
     pub above_range: Vec<Computed>,

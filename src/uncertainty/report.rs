@@ -192,10 +192,40 @@ pub fn report(study: &UncertaintyStudy, rows: &[PointRecord]) -> UncertaintyRepo
             .into_iter()
             .map(|w| {
                 let values: Vec<Value> = by_id.iter().map(|r| value(*r, w)).collect();
-                quantity(spec, w.name(), &values)
+                let mut q = quantity(spec, w.name(), &values);
+                if w == Computed::Nonlinear {
+                    q.notes.extend(unlocated_note(&by_id));
+                }
+                q
             })
             .collect(),
     }
+}
+
+/// A note counting the evaluations whose V_NL is not a located point (`nonlinear_located =
+/// false`): the lowest stable cycle computed, or an attractor whose death bracket the search
+/// left open. Hunting may exist below such a V_NL, so it is an upper bound.
+fn unlocated_note(by_id: &[Option<&PointRecord>]) -> Option<String> {
+    let found = by_id
+        .iter()
+        .flatten()
+        .filter(|r| r.nonlinear_m_s.is_some())
+        .count();
+    let unlocated: Vec<usize> = by_id
+        .iter()
+        .flatten()
+        .filter(|r| r.nonlinear_m_s.is_some() && r.nonlinear_located == Some(false))
+        .map(|r| r.id)
+        .collect();
+    (!unlocated.is_empty()).then(|| {
+        let ids: Vec<String> = unlocated.iter().take(20).map(usize::to_string).collect();
+        format!(
+            "{} of the {found} evaluations with a V_NL have it unlocated (evaluations {}{}): the lowest stable cycle computed, or an attractor whose death bracket is open (no verdict below it). Hunting may exist lower there, so their V_NL is an upper bound, the statistics and quantiles of V_NL may lie too high and the probability below the operating speed too low; `critspeed attractors` of such an evaluation's parameters says why",
+            unlocated.len(),
+            ids.join(", "),
+            if unlocated.len() > 20 { ", …" } else { "" }
+        )
+    })
 }
 
 /// The report of one speed named `name` from its values at every evaluation of `spec`'s design
