@@ -44,7 +44,8 @@ pub(crate) fn draw_marker_lines(
 }
 
 /// Place marker labels inside the plot area: vertical-line labels along the
-/// top, beside their line (the side not crossing another marker line),
+/// top, beside their line (the side not crossing another marker line; one too
+/// wide for either side across its own line, against an edge of the area),
 /// stacked in rows when they would overlap; horizontal-line labels at the
 /// right end just above (or below) their line, slid left past other labels.
 pub(crate) fn layout_labels(chart: &Chart, p: &Prepared, m: &Metrics) -> Vec<LabelBox> {
@@ -72,7 +73,14 @@ pub(crate) fn layout_labels(chart: &Chart, p: &Prepared, m: &Metrics) -> Vec<Lab
                 .iter()
                 .any(|&l| (l - px).abs() > 0.5 && l > x0 - gap && l < x0 + w + gap)
         };
-        let sides = [px + gap, px - gap - w];
+        // beside the line, right then left; a label too wide for either side spans its own
+        // line, against the right or the left edge, rather than crossing another line
+        let beside = [px + gap, px - gap - w];
+        let sides = if beside.iter().any(fits) {
+            beside
+        } else {
+            [pw - gap - w, gap]
+        };
         let x0 = sides.iter().copied().filter(fits).find(clear);
         let x0 = x0.or(sides.iter().copied().find(fits)).unwrap_or(gap);
         let mut rect = Rect {
