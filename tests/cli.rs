@@ -231,6 +231,40 @@ mu3_im,mu4_re,mu4_im"
     assert!(dir.join("out/flange-hysteresis/bifurcation.svg").is_file());
 }
 
+/// A study with an `[attractors]` section: `bifurcation --json` runs the search too and prints
+/// one JSON object (the search's summary table is left out), whose V_NL names both methods,
+/// and writes the search's files beside the diagram's.
+#[test]
+fn bifurcation_json_with_an_attractors_section_is_one_object() {
+    let dir = scratch("bif-attractors");
+    let v = json(&critspeed(
+        &[
+            "bifurcation",
+            &study("dtu-bogie-uncertainty-nonlinear.toml"),
+            "--json",
+        ],
+        &dir,
+    ));
+    let sources = v["nonlinear_critical_speed_sources"]
+        .as_array()
+        .expect("sources");
+    assert!(sources.len() >= 2, "{sources:?}");
+    let text = serde_json::to_string(sources).expect("text");
+    assert!(
+        text.contains("continuation") && text.contains("search"),
+        "{text}"
+    );
+    let out = dir.join("out/dtu-bogie-uncertainty-nonlinear");
+    for f in [
+        "bifurcation.json",
+        "branch.csv",
+        "attractors.json",
+        "attractors.csv",
+    ] {
+        assert!(out.join(f).is_file(), "{f} written");
+    }
+}
+
 #[test]
 fn simulate_and_ramp_write_their_files() {
     let dir = scratch("sim");

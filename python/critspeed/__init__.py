@@ -176,9 +176,12 @@ def bifurcation(study: Study, *, out: Optional[PathLike] = None) -> Dict[str, An
     ``frequency_hz``, ``stable`` (bool), ``max_multiplier_abs``, ... ``mu4_im``), the very
     numbers of the CSV.
 
-    Studies without a ``[bifurcation]`` section use its defaults. Releases the GIL; Ctrl-C
+    Studies without a ``[bifurcation]`` section use its defaults. A study with an
+    ``[attractors]`` section runs the attractor search too, as the command does, and the
+    object carries the one V_NL of both (``"nonlinear_sources"``). Releases the GIL; Ctrl-C
     stops it between continuation steps (``KeyboardInterrupt``). With ``out``, writes
-    ``bifurcation.json``, ``branch.csv`` and ``bifurcation.svg``.
+    ``bifurcation.json``, ``branch.csv`` and ``bifurcation.svg`` (and ``attractors.json``,
+    ``attractors.csv``, ``attractors.svg`` after a search).
     """
     kind, value = _study(study)
     report, cols = _warned(_native.bifurcation(kind, value, _out(out)))

@@ -318,8 +318,18 @@ fn bifurcation<'py>(
             cancel,
             branches: None,
         };
-        let r = api::bifurcation(&p, hooks)?;
+        // as `critspeed bifurcation`: a study with an `[attractors]` section runs the search
+        // too, and the report carries the one V_NL of both
+        let (r, search) = if p.plan().attractors.is_some() {
+            let (a, b) = api::attractors(&p, hooks, None)?;
+            (b, Some(a))
+        } else {
+            (api::bifurcation(&p, hooks)?, None)
+        };
         save(out.as_ref(), &r.study, &mut w, || files::bifurcation(&r))?;
+        if let Some(a) = &search {
+            save(out.as_ref(), &r.study, &mut w, || files::attractors(a, &r))?;
+        }
         Ok((r, w))
     })?;
     let json = critspeed::output::bifurcation_json(&r);

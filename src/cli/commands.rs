@@ -30,7 +30,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
         }
         Command::Bifurcation { study, json, .. } => {
             let p = prepare(load(study)?)?;
-            let report = nonlinear(&p, &cli.out)?;
+            let report = nonlinear(&p, &cli.out, !*json)?;
             if *json {
                 let text = serde_json::to_string_pretty(&output::bifurcation_json(&report))
                     .map_err(compute)?;
@@ -254,13 +254,20 @@ pub(super) fn continuation(p: &Prepared) -> Result<BifurcationReport, Failure> {
 }
 
 /// The continuation and, when the study has an `[attractors]` section, the attractor search
-/// (its summary printed, its files written): the report carries the one V_NL of both.
-pub(super) fn nonlinear(p: &Prepared, root: &Path) -> Result<BifurcationReport, Failure> {
+/// (its files written, its summary printed when `table`: never before `--json`'s object): the
+/// report carries the one V_NL of both.
+pub(super) fn nonlinear(
+    p: &Prepared,
+    root: &Path,
+    table: bool,
+) -> Result<BifurcationReport, Failure> {
     if p.plan().attractors.is_none() {
         return bifurcation(p, root);
     }
     let (r, b) = super::attractors::run(p, root)?;
-    results(&super::attractors::table(&r, &b))?;
+    if table {
+        results(&super::attractors::table(&r, &b))?;
+    }
     Ok(b)
 }
 
@@ -320,7 +327,7 @@ pub(super) fn run_study(root: &Path, plan: Plan) -> Result<LinearReport, Failure
     let report = linear(&p, root)?;
     results(&table::linear(p.plan(), &report))?;
     if p.plan().bifurcation.is_some() {
-        let b = nonlinear(&p, root)?;
+        let b = nonlinear(&p, root, true)?;
         results(&table::bifurcation(&b))?;
     }
     Ok(report)
