@@ -4,8 +4,8 @@
 //!   car on S1002/UIC60 profiles (the profile-contact table, flange included).
 //! * `vehicle/eigenvalues_car`: the eigenvalues of the car's 28-state Jacobian at 100 m/s
 //!   (one point of that scan).
-//! * `vehicle/variational_car`: f and JΦ of the DTU car (one stage of the variational
-//!   equations, as every shooting Newton step integrates them).
+//! * `vehicle/variational_{bogie,car}`: f and JΦ of the DTU bogie and car (one stage of the
+//!   variational equations, as every shooting Newton step integrates them).
 //! * `vehicle/simulate_car_s1002_30s`: `critspeed simulate` of the S1002 car without the
 //!   files: 30 s at 100 m/s from y = 6 mm, rtol 1e-9, sampled every 2 ms.
 //! * `vehicle/linear_{bogie,car}`: the linear (Kalker) critical-speed solve from the model:
@@ -67,6 +67,14 @@ fn benches(c: &mut Criterion) {
     });
     let phi = nalgebra::SMatrix::<f64, 28, 28>::from_fn(|i, j| {
         f64::from(u8::from(i == j)) + 1e-3 * ((i * 28 + j) as f64).sin()
+    });
+    let phib = nalgebra::SMatrix::<f64, 12, 12>::from_fn(|i, j| {
+        f64::from(u8::from(i == j)) + 1e-3 * ((i * 12 + j) as f64).sin()
+    });
+    c.bench_function("vehicle/variational_bogie", |b| {
+        b.iter(|| {
+            VectorField::<12>::rhs_variational(&bogie, black_box(&xb), 100.0, black_box(&phib))
+        })
     });
     c.bench_function("vehicle/variational_car", |b| {
         b.iter(|| VectorField::<28>::rhs_variational(&car, black_box(&xc), 100.0, black_box(&phi)))

@@ -320,12 +320,7 @@ fn bifurcation<'py>(
         };
         // as `critspeed bifurcation`: a study with an `[attractors]` section runs the search
         // too, and the report carries the one V_NL of both
-        let (r, search) = if p.plan().attractors.is_some() {
-            let (a, b) = api::attractors(&p, hooks, None)?;
-            (b, Some(a))
-        } else {
-            (api::bifurcation(&p, hooks)?, None)
-        };
+        let (r, search) = api::nonlinear(&p, || api::bifurcation(&p, hooks), cancel, None)?;
         save(out.as_ref(), &r.study, &mut w, || files::bifurcation(&r))?;
         if let Some(a) = &search {
             save(out.as_ref(), &r.study, &mut w, || files::attractors(a, &r))?;

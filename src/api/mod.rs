@@ -164,6 +164,38 @@ pub fn attractors(
     Ok((r, b))
 }
 
+/// The nonlinear analysis a study asks for, the one rule for every front end: the continuation
+/// (`continuation`, run with the caller's hooks and progress), then, when the study has an
+/// `[attractors]` section, the search for every attractor beside it, and the continuation's report
+/// carries the one V_NL of both ([`crate::reconcile::combine`]). `progress` gets the search's
+/// lines, headed by one naming the study.
+pub fn nonlinear(
+    p: &Prepared,
+    continuation: impl FnOnce() -> Result<BifurcationReport, Failure>,
+    cancel: Cancel<'_>,
+    progress: Option<&(dyn Fn(&str) + Sync)>,
+) -> Result<
+    (
+        BifurcationReport,
+        Option<crate::attractors::AttractorReport>,
+    ),
+    Failure,
+> {
+    let mut b = continuation()?;
+    if p.plan.attractors.is_none() {
+        return Ok((b, None));
+    }
+    if let Some(f) = progress {
+        f(&format!(
+            "searching for the attractors of '{}'",
+            p.plan.name
+        ));
+    }
+    let r = search(p, &b, cancel, progress)?;
+    crate::reconcile::combine(&mut b, &r);
+    Ok((b, Some(r)))
+}
+
 /// The search alone, given the continuation's report `b` (its Hopf speed sets the default
 /// grid, its stable cycles are starts).
 pub fn search(

@@ -398,7 +398,7 @@ impl Ctx<'_> {
     /// changes fast, as near a Hopf point): its start, period and whether it is stable. `None`
     /// for a motion that is not a cycle, or where a step moves the start by more than 30 % of
     /// its size (past a fold there is no cycle nearby, and Newton from far would land on
-    /// another). The steps solve at [`TRACK_RTOL`].
+    /// another). The steps solve at [`track_rtol`].
     fn track<const N: usize>(&self, here: &Motion, v_to: f64) -> Option<(Vec<f64>, f64, bool)> {
         let t0 = here.period_s?;
         if here.state.len() != N {
@@ -412,7 +412,12 @@ impl Ctx<'_> {
             let v = here.speed_m_s + (v_to - here.speed_m_s) * j as f64 / 4.0;
             let x0: [f64; N] = std::array::from_fn(|i| x[i]);
             let (orbit, floquet, _) = crate::bifurcation::solve_cycle::<N>(
-                self.model, v, x0, period, TRACK_RTOL, symmetric,
+                self.model,
+                v,
+                x0,
+                period,
+                track_rtol(self.opts.rtol),
+                symmetric,
             )
             .ok()?;
             if (orbit.x0 - x).norm() > 0.3 * x.norm().max(1e-12) {
@@ -572,13 +577,24 @@ struct Descent {
     open: bool,
 }
 
-/// The integrator's relative tolerance of [`Ctx::track`]'s Newton steps, looser than the
-/// settled cycles' 1e-10. A tracked cycle is a starting state for the next simulation and a
-/// period to compare with the one the simulation settles on (same attractor when they agree to
-/// 1e-6), and 1e-8 gives both with room; the attractors' own cycles are still solved at 1e-10.
-/// On the S1002 bogie's search the descents of its cycles took 3.4, 2.1, 1.1 and 2.8 s instead
-/// of 7.4, 4.4, 1.8 and 5.4 s at 1e-10, with the same report.
-const TRACK_RTOL: f64 = 1e-8;
+/// The integrator's relative tolerance of the Newton-refined cycles that the simulations
+/// settle on (their period, amplitudes and multipliers): a hundredth of the simulations' own
+/// `rtol`, within [1e-10, 1e-8]. At the default `rtol` (1e-8) that is 1e-10; a search run
+/// looser for speed (an uncertainty study at 1e-6) refines at 1e-8. The refinement was 40 % of
+/// such a run's time at a fixed 1e-10 (docs/performance.md).
+pub fn cycle_rtol(rtol: f64) -> f64 {
+    (rtol * 1e-2).clamp(1e-10, 1e-8)
+}
+
+/// The integrator's relative tolerance of [`Ctx::track`]'s Newton steps: the simulations' own
+/// `rtol` within [1e-8, 1e-7], looser than [`cycle_rtol`]. A tracked cycle is a starting state
+/// for the next simulation and a period to compare with the one the simulation settles on (same
+/// attractor when they agree to 1e-6), and 1e-7 gives both with room. At the default `rtol`
+/// (1e-8) that is 1e-8: on the S1002 bogie's search the descents of its cycles took 3.4, 2.1,
+/// 1.1 and 2.8 s instead of 7.4, 4.4, 1.8 and 5.4 s at 1e-10, with the same report.
+pub fn track_rtol(rtol: f64) -> f64 {
+    rtol.clamp(1e-8, 1e-7)
+}
 
 /// How many more times the settle time an unsettled motion of a descent is simulated on
 /// before it counts as unsettled ([`Ctx::until_settled`]).
@@ -1214,7 +1230,7 @@ fn search_states<const N: usize>(
             max_period: opts.max_period,
             geometry_limit: opts.geometry_limit,
             rtol: opts.rtol,
-            cycle_rtol: 1e-10,
+            cycle_rtol: cycle_rtol(opts.rtol),
         },
         progress,
         cancel,

@@ -24,16 +24,21 @@ pub(super) fn run(
     let r = api::search(p, &b, bifurcation_hooks().cancel, Some(&progress))?;
     let mut b = b;
     crate::reconcile::combine(&mut b, &r);
+    finished(&r, started);
+    let dir = out_dir(root, plan)?;
+    write_all(&dir, &files::bifurcation(&b)?)?;
+    write_all(&dir, &files::attractors(&r, &b)?)?;
+    Ok((r, b))
+}
+
+/// The search's closing status line: simulations, attractors, the time since `started`.
+pub(super) fn finished(r: &AttractorReport, started: std::time::Instant) {
     statusln!(
         "  {} simulations, {} attractors in {:.1} s",
         r.simulations,
         r.attractors.len(),
         started.elapsed().as_secs_f64()
     );
-    let dir = out_dir(root, plan)?;
-    write_all(&dir, &files::bifurcation(&b)?)?;
-    write_all(&dir, &files::attractors(&r, &b)?)?;
-    Ok((r, b))
 }
 
 /// The command.

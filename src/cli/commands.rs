@@ -253,20 +253,30 @@ pub(super) fn continuation(p: &Prepared) -> Result<BifurcationReport, Failure> {
     Ok(report)
 }
 
-/// The continuation and, when the study has an `[attractors]` section, the attractor search
-/// (its files written, its summary printed when `table`: never before `--json`'s object): the
-/// report carries the one V_NL of both.
+/// The nonlinear analysis the study asks for ([`api::nonlinear`]): the continuation and, when the
+/// study has an `[attractors]` section, the attractor search (its files written, its summary
+/// printed when `table`: never before `--json`'s object); the report carries the one V_NL of both.
 pub(super) fn nonlinear(
     p: &Prepared,
     root: &Path,
     table: bool,
 ) -> Result<BifurcationReport, Failure> {
-    if p.plan().attractors.is_none() {
-        return bifurcation(p, root);
-    }
-    let (r, b) = super::attractors::run(p, root)?;
-    if table {
-        results(&super::attractors::table(&r, &b))?;
+    let started = std::time::Instant::now();
+    let progress = |line: &str| statusln!("{line}");
+    let (b, search) = api::nonlinear(
+        p,
+        || continuation(p),
+        bifurcation_hooks().cancel,
+        Some(&progress),
+    )?;
+    let dir = out_dir(root, p.plan())?;
+    write_all(&dir, &files::bifurcation(&b)?)?;
+    if let Some(r) = &search {
+        super::attractors::finished(r, started);
+        write_all(&dir, &files::attractors(r, &b)?)?;
+        if table {
+            results(&super::attractors::table(r, &b))?;
+        }
     }
     Ok(b)
 }

@@ -208,8 +208,7 @@ fn table(rep: &uncertainty::UncertaintyReport) -> String {
     );
     for q in &rep.quantities {
         s += &quantity_lines(q, rep.operating_speed_m_s);
-        if q.name == "nonlinear" {
-            let search = rep.nonlinear_method.as_deref() == Some("search");
+        if let (true, Some(search)) = (q.name == "nonlinear", rep.nonlinear_by_search) {
             s += &format!("    V_NL {}\n", crate::sweep::nonlinear_method(search).1);
         }
         for n in &q.notes {

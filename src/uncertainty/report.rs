@@ -105,14 +105,24 @@ pub struct UncertaintyReport {
     /// the operating speed (m/s), when set
     #[serde(skip_serializing_if = "Option::is_none")]
     pub operating_speed_m_s: Option<f64>,
-    /// how V_NL was found, when computed: "descents" (the fast form) or "search" (the full
-    /// attractor search, `attractors = true`)
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub nonlinear_method: Option<String>,
+    /// how V_NL was found, when computed: by the full attractor search (`true`, `attractors =
+    /// true`) or by the fast form (`false`); in the JSON `nonlinear_method`, "search" or
+    /// "descents" ([`crate::sweep::nonlinear_method`])
+    #[serde(
+        rename = "nonlinear_method",
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "method_name"
+    )]
+    pub nonlinear_by_search: Option<bool>,
     /// the uncertain parameters
     pub parameters: Vec<ParameterReport>,
     /// one entry per computed speed
     pub quantities: Vec<QuantityReport>,
+}
+
+/// `nonlinear_method`'s name in the JSON (only called when set).
+fn method_name<S: serde::Serializer>(search: &Option<bool>, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(crate::sweep::nonlinear_method(search.unwrap_or(false)).0)
 }
 
 /// One evaluation's value of one speed.
@@ -173,11 +183,7 @@ pub fn report(study: &UncertaintyStudy, rows: &[PointRecord]) -> UncertaintyRepo
         method: spec.method.name().into(),
         seed: spec.seed,
         operating_speed_m_s: spec.operating_speed,
-        nonlinear_method: spec.compute.nonlinear.then(|| {
-            crate::sweep::nonlinear_method(spec.attractors)
-                .0
-                .to_string()
-        }),
+        nonlinear_by_search: spec.compute.nonlinear.then_some(spec.attractors),
         parameters: spec
             .parameters
             .iter()
@@ -206,17 +212,14 @@ pub fn report(study: &UncertaintyStudy, rows: &[PointRecord]) -> UncertaintyRepo
 /// false`): the lowest stable cycle computed, or an attractor whose death bracket the search
 /// left open. Hunting may exist below such a V_NL, so it is an upper bound.
 fn unlocated_note(by_id: &[Option<&PointRecord>]) -> Option<String> {
-    let found = by_id
-        .iter()
-        .flatten()
-        .filter(|r| r.nonlinear_m_s.is_some())
-        .count();
-    let unlocated: Vec<usize> = by_id
-        .iter()
-        .flatten()
-        .filter(|r| r.nonlinear_m_s.is_some() && r.nonlinear_located == Some(false))
-        .map(|r| r.id)
-        .collect();
+    let mut found = 0;
+    let mut unlocated = Vec::new();
+    for r in by_id.iter().flatten().filter(|r| r.nonlinear_m_s.is_some()) {
+        found += 1;
+        if r.nonlinear_located == Some(false) {
+            unlocated.push(r.id);
+        }
+    }
     (!unlocated.is_empty()).then(|| {
         let ids: Vec<String> = unlocated.iter().take(20).map(usize::to_string).collect();
         format!(
