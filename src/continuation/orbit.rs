@@ -517,7 +517,18 @@ impl Floquet {
             N,
             |i, j| if symmetric { -phi[(i, j)] } else { phi[(i, j)] },
         );
-        let mut eig: Vec<Complex<f64>> = m.complex_eigenvalues().iter().copied().collect();
+        let Some(mut eig) = crate::stability::eigenvalues_dense(&m) else {
+            // a monodromy with a non-finite entry, or whose eigenvalues did not converge: no
+            // multipliers, and not stable
+            let nan = vec![Complex::new(f64::NAN, f64::NAN); N];
+            return Floquet {
+                multipliers: nan.clone(),
+                half: symmetric.then_some(nan),
+                trivial_error: f64::INFINITY,
+                max_nontrivial: f64::INFINITY,
+                trivial: 0,
+            };
+        };
         eig.sort_by(|a, b| b.norm().total_cmp(&a.norm()));
         let (mu, half) = if symmetric {
             // |ν²| keeps the order of |ν|, so μ stays sorted and paired with ν

@@ -16,7 +16,7 @@
 //! tangent, so that the first corrector's arclength plane cannot meet the parent branch near
 //! the point. The eigenvector comes from inverse iteration on the shooting monodromy.
 
-use nalgebra::{Complex, DMatrix, DVector, SMatrix};
+use nalgebra::{DMatrix, DVector, SMatrix};
 
 use super::branch::{Rejoin, SpecialKind, SpecialPoint};
 use super::orbit::{OrbitPoint, Shooting};
@@ -135,7 +135,7 @@ pub fn switch_at<const N: usize, F: VectorField<N>>(
 /// The real eigenvalue of `a` nearest `target`, if `a` has a real one.
 fn real_eigenvalue_near<const N: usize>(a: &SMatrix<f64, N, N>, target: f64) -> Option<f64> {
     let m = DMatrix::from_fn(N, N, |i, j| a[(i, j)]);
-    let eig: Vec<Complex<f64>> = m.complex_eigenvalues().iter().copied().collect();
+    let eig = crate::stability::eigenvalues_dense(&m)?;
     eig.iter()
         .filter(|v| v.im.abs() <= 1e-9 * v.norm().max(1e-300))
         .map(|v| v.re)

@@ -38,7 +38,7 @@ mod spectrum;
 
 pub use eigen_scan::EIGEN_GRID_POINTS;
 pub use lyapunov::{first_lyapunov, HopfKind, Lyapunov, LyapunovError, LyapunovOptions};
-pub use spectrum::{determinant, eigenvalues, spectrum_at, EigenPair, Spectrum};
+pub use spectrum::{determinant, eigenvalues, eigenvalues_dense, spectrum_at, EigenPair, Spectrum};
 
 use nalgebra::{Matrix4, SMatrix, SVector};
 

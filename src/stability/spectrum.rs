@@ -135,6 +135,35 @@ pub fn eigenvalues<const N: usize>(j: &SMatrix<f64, N, N>) -> Option<Vec<(f64, f
     Some(ev.iter().map(|z| (z.re, z.im)).collect())
 }
 
+/// The eigenvalues of a dense square matrix of any size (a monodromy matrix), or `None` when it
+/// has a non-finite entry or neither method converges: nalgebra's real Schur form with at most
+/// 60 n QR sweeps, then faer's. nalgebra's own `complex_eigenvalues()` iterates without a
+/// limit, and on one monodromy of the DTU bogie (a 7.5 mm cycle the attractor search refined,
+/// entries from 1 down to 1e-71: `tests/data/monodromy_schur_hang.csv`) it never returned.
+pub fn eigenvalues_dense(m: &nalgebra::DMatrix<f64>) -> Option<Vec<nalgebra::Complex<f64>>> {
+    let n = m.nrows();
+    if n != m.ncols() || !m.iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    if let Some(schur) = nalgebra::Schur::try_new(m.clone(), f64::EPSILON, 60 * n.max(1)) {
+        let ev: Vec<nalgebra::Complex<f64>> = schur.complex_eigenvalues().iter().copied().collect();
+        if ev.iter().all(|z| z.re.is_finite() && z.im.is_finite()) {
+            return Some(ev);
+        }
+    }
+    let a = Mat::<f64>::from_fn(n, n, |r, c| m[(r, c)]);
+    let ev = a.eigenvalues();
+    clear_upper_halves();
+    let ev: Vec<nalgebra::Complex<f64>> = ev
+        .ok()?
+        .iter()
+        .map(|z| nalgebra::Complex::new(z.re, z.im))
+        .collect();
+    ev.iter()
+        .all(|z| z.re.is_finite() && z.im.is_finite())
+        .then_some(ev)
+}
+
 /// $\det J$ by faer's LU (any size).
 pub fn determinant<const N: usize>(j: &SMatrix<f64, N, N>) -> f64 {
     Mat::<f64>::from_fn(N, N, |r, c| j[(r, c)])
