@@ -194,6 +194,14 @@ fn bad_starts_are_refused_naming_option_value_and_rule() {
             vec!["--kick".into(), "frame-1.y=6 kg".into()],
             vec!["--kick", "6 kg"],
         ),
+        (
+            vec!["--rtol".into(), "1e-3".into()],
+            vec!["rtol 1e-3", "must lie in [1e-12, 1e-4]"],
+        ),
+        (
+            vec!["--rtol".into(), "loose".into()],
+            vec!["--rtol", "'loose'"],
+        ),
     ];
     for (extra, words) in cases {
         let mut args: Vec<String> = vec![

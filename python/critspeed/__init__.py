@@ -246,6 +246,7 @@ def simulate(
     out: Optional[PathLike] = None,
     start_from: Optional[str] = None,
     kick: Optional[Sequence[str]] = None,
+    rtol: Optional[float] = None,
 ) -> Dict[str, np.ndarray]:
     """Time histories at constant speeds from y(0) = ``y0``: ``{column of simulate.csv: array}``.
 
@@ -253,7 +254,8 @@ def simulate(
     ``"PATH:N"``: attractor N of an ``attractors.json``, each speed starting from the state of
     its path nearest that speed (as ``critspeed simulate --from``); ``kick`` lists
     displacements added to the start, ``"BODY.COORD=VALUE"`` (``"wheelset-3.y=6 mm"``), as
-    ``--kick``.
+    ``--kick``. ``rtol`` is the integrator's relative tolerance, in [1e-12, 1e-4] (the
+    absolute tolerance is a thousandth of it), default 1e-9, as ``--rtol``.
 
     Columns ``speed_m_s``, ``time_s``, ``y_m``, ``psi_rad``, ``ydot_m_s``, ``psidot_rad_s``;
     the runs follow one another (select one with ``r["speed_m_s"] == v``). Each argument is a
@@ -278,8 +280,19 @@ def simulate(
         _out(out),
         start_from,
         list(kick) if kick else None,
+        _rtol(rtol),
     )
     return _columns(_warned(cols))
+
+
+def _rtol(rtol: Optional[float]) -> Optional[float]:
+    """A tolerance argument as a float (None stays None): a bool or a non-number raises
+    :class:`StudyError`; the range is checked by the library."""
+    if rtol is None:
+        return None
+    if isinstance(rtol, bool) or not isinstance(rtol, (int, float, np.number)):
+        raise StudyError(f"rtol = {rtol!r}: must be a number in [1e-12, 1e-4]")
+    return float(rtol)
 
 
 def sweep(

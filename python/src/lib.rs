@@ -404,7 +404,7 @@ fn attractors<'py>(
 
 /// The columns of simulate.csv.
 #[pyfunction]
-#[pyo3(signature = (kind, value, speeds, y0, duration, dt, out=None, start_from=None, kick=None))]
+#[pyo3(signature = (kind, value, speeds, y0, duration, dt, out=None, start_from=None, kick=None, rtol=None))]
 #[allow(clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -417,6 +417,7 @@ fn simulate<'py>(
     out: Option<PathBuf>,
     start_from: Option<String>,
     kick: Option<Vec<String>>,
+    rtol: Option<f64>,
 ) -> PyResult<(Bound<'py, PyList>, Vec<String>)> {
     let src = source(kind, value)?;
     let req = SimulateRequest {
@@ -430,6 +431,7 @@ fn simulate<'py>(
             .transpose()
             .map_err(raise)?,
         kicks: kick.unwrap_or_default(),
+        rtol,
     };
     let (csv, w) = call(py, true, |cancel| {
         let mut w = Vec::new();

@@ -107,6 +107,21 @@ def test_simulate_equals_cli_csv(tmp_path):
     assert sorted(set(got["speed_m_s"])) == [10.0, 30.0, 40.0]
 
 
+def test_simulate_rtol_equals_cli_and_is_checked(tmp_path):
+    study = REPO / "studies" / "seed-hunting.toml"
+    cli("simulate", study, "--speed", "75", "--duration", "1s", "--rtol", "1e-6",
+        "--out", tmp_path)
+    got = critspeed.simulate(study, 75, duration=1, rtol=1e-6)
+    same_as_csv(got, tmp_path / "seed-hunting" / "simulate.csv")
+    tight = critspeed.simulate(study, 75, duration=1)
+    assert not np.array_equal(got["y_m"], tight["y_m"])
+    for bad in (1e-3, 0, float("nan")):
+        with pytest.raises(critspeed.StudyError, match=r"rtol .*\[1e-12, 1e-4\]"):
+            critspeed.simulate(study, 75, duration=0.1, rtol=bad)
+    with pytest.raises(critspeed.StudyError, match="rtol = 'tight'"):
+        critspeed.simulate(study, 75, duration=0.1, rtol="tight")
+
+
 def test_simulate_from_an_attractor_with_kicks_equals_cli(tmp_path):
     study = REPO / "studies" / "dtu-cooperrider-car.toml"
     state = [0.0] * 28

@@ -243,7 +243,17 @@ pub struct SimulateRequest {
     /// `"frame 2.psi=2 mrad"`; hyphens and underscores in the body's name read as spaces;
     /// coordinates `y`, `psi` (or `yaw`), `phi` (or `roll`) where the body rolls)
     pub kicks: Vec<String>,
+    /// the integrator's relative tolerance, within [`SIMULATE_RTOL_RANGE`]; the absolute
+    /// tolerance is a thousandth of it (m, rad, m/s, rad/s). `None`: [`SIMULATE_RTOL`]
+    pub rtol: Option<f64>,
 }
+
+/// The time simulation's relative tolerance when none is given (docs/commands.md, "How exact
+/// a time history is", measures what it and looser ones keep and cost).
+pub const SIMULATE_RTOL: f64 = 1e-9;
+
+/// The relative tolerances a time simulation accepts.
+pub const SIMULATE_RTOL_RANGE: (f64, f64) = (1e-12, 1e-4);
 
 /// A start on an attractor of `attractors.json`: its path's states by speed.
 #[derive(Clone, Debug, PartialEq)]
@@ -355,8 +365,8 @@ pub fn parse_kick(model: &Vehicle, kick: &str) -> Result<(usize, f64), Failure> 
 }
 
 impl SimulateRequest {
-    /// The rules: positive speeds and duration, 0 < dt <= duration, at most 5e6 samples, and
-    /// one start (y0 = 0 with `from`).
+    /// The rules: positive speeds and duration, 0 < dt <= duration, at most 5e6 samples, one
+    /// start (y0 = 0 with `from`), and `rtol` within [`SIMULATE_RTOL_RANGE`].
     pub fn validate(&self) -> Result<(), Failure> {
         let SimulateRequest {
             speeds,
@@ -392,7 +402,25 @@ impl SimulateRequest {
                 duration / dt
             )));
         }
+        if let Some(rtol) = self.rtol {
+            let (lo, hi) = SIMULATE_RTOL_RANGE;
+            if !(lo..=hi).contains(&rtol) {
+                let shown = if rtol.is_finite() && rtol != 0.0 {
+                    format!("{rtol:e}")
+                } else {
+                    rtol.to_string()
+                };
+                return Err(user(anyhow!(
+                    "rtol {shown}: the integrator's relative tolerance must lie in [{lo:e}, {hi:e}]"
+                )));
+            }
+        }
         Ok(())
+    }
+
+    /// The relative tolerance the runs use.
+    pub fn rtol(&self) -> f64 {
+        self.rtol.unwrap_or(SIMULATE_RTOL)
     }
 }
 
@@ -406,7 +434,7 @@ pub fn simulate(
 ) -> Result<Vec<TimeHistory>, Failure> {
     req.validate()?;
     let ode = crate::system::ode::OdeOptions {
-        tol: crate::system::ode::Tolerances::new(1e-9, 1e-12).map_err(compute)?,
+        tol: crate::system::ode::Tolerances::new(req.rtol(), 1e-3 * req.rtol()).map_err(compute)?,
         ..Default::default()
     };
     let mut runs = Vec::new();

@@ -51,6 +51,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
             kick,
             duration,
             dt,
+            rtol,
         } => {
             let plan = load(study)?;
             let y0 = match y0 {
@@ -71,6 +72,7 @@ pub fn dispatch(cli: &Cli) -> Result<(), Failure> {
                     .map(crate::api::attractor_start)
                     .transpose()?,
                 kicks: kick.clone(),
+                rtol: *rtol,
             };
             req.validate()?;
             simulate(&prepare(plan)?, &cli.out, &req)
@@ -293,21 +295,25 @@ fn simulate(p: &Prepared, root: &Path, req: &SimulateRequest) -> Result<(), Fail
     } else {
         format!(" plus {}", req.kicks.join(", "))
     };
-    let before = |v: f64| match req
+    let before = |v: f64| {
+        match req
         .from
         .as_ref()
         .and_then(|f| f.nearest(v).map(|n| (f, n.0)))
     {
         Some((f, at)) => statusln!(
-            "simulating '{name}' at {v} m/s for {} s from {}'s state at {at} m/s{kicks}",
+            "simulating '{name}' at {v} m/s for {} s from {}'s state at {at} m/s{kicks} (rtol {:e})",
             req.duration,
-            f.source
+            f.source,
+            req.rtol()
         ),
         None => statusln!(
-            "simulating '{name}' at {v} m/s for {} s from y(0) = {} mm{kicks}",
+            "simulating '{name}' at {v} m/s for {} s from y(0) = {} mm{kicks} (rtol {:e})",
             req.duration,
-            req.y0 * 1e3
+            req.y0 * 1e3,
+            req.rtol()
         ),
+    }
     };
     let runs = api::simulate(p, req, &before, None)?;
     write_all(&out_dir(root, p.plan())?, &files::simulate(name, &runs))?;

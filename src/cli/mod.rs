@@ -106,6 +106,10 @@ pub enum Command {
         /// Output sample interval.
         #[arg(long, default_value = "2 ms")]
         dt: String,
+        /// The integrator's relative tolerance, in [1e-12, 1e-4] (absolute: a thousandth of
+        /// it); default 1e-9. Looser is faster and less exact (docs/commands.md says how much).
+        #[arg(long)]
+        rtol: Option<f64>,
     },
     /// The ramp method (simulation): settle on a hunting cycle, decrease the speed slowly,
     /// report where the hunting dies; with the EN 14363 criterion on the same history.
