@@ -550,17 +550,17 @@ fn simulate_rtol_converges_and_is_checked() {
         study::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/seed-hunting.toml"))
             .expect("studies/seed-hunting.toml is valid");
     let p = Prepared::new(plan).expect("model");
+    let request = |rtol: Option<f64>| SimulateRequest {
+        speeds: vec![75.0],
+        y0: 5e-3,
+        duration: 3.0,
+        dt: 2e-3,
+        from: None,
+        kicks: vec![],
+        rtol,
+    };
     let run = |rtol: Option<f64>| -> Vec<f64> {
-        let req = SimulateRequest {
-            speeds: vec![75.0],
-            y0: 5e-3,
-            duration: 3.0,
-            dt: 2e-3,
-            from: None,
-            kicks: vec![],
-            rtol,
-        };
-        let h = api::simulate(&p, &req, &|_| {}, None).expect("simulation");
+        let h = api::simulate(&p, &request(rtol), &|_| {}, None).expect("simulation");
         h[0].x.iter().map(|x| x[0]).collect()
     };
     let reference = run(Some(1e-12));
@@ -583,16 +583,7 @@ fn simulate_rtol_converges_and_is_checked() {
     );
     assert_eq!(run(None), run(Some(1e-9)), "the default is 1e-9");
     for bad in [0.0, 1e-13, 1e-3, f64::NAN, -1e-8] {
-        let req = SimulateRequest {
-            speeds: vec![75.0],
-            y0: 5e-3,
-            duration: 0.1,
-            dt: 2e-3,
-            from: None,
-            kicks: vec![],
-            rtol: Some(bad),
-        };
-        match req.validate() {
+        match request(Some(bad)).validate() {
             Err(Failure::User(e)) => {
                 let msg = format!("{e:#}");
                 assert!(

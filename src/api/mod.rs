@@ -434,7 +434,9 @@ pub fn simulate(
 ) -> Result<Vec<TimeHistory>, Failure> {
     req.validate()?;
     let ode = crate::system::ode::OdeOptions {
-        tol: crate::system::ode::Tolerances::new(req.rtol(), 1e-3 * req.rtol()).map_err(compute)?,
+        // rtol / 1e3, not 1e-3 × rtol: at the default that is exactly 1e-12, the absolute
+        // tolerance the simulation had before `rtol` was an option (the same histories to the bit)
+        tol: crate::system::ode::Tolerances::new(req.rtol(), req.rtol() / 1e3).map_err(compute)?,
         ..Default::default()
     };
     let mut runs = Vec::new();
