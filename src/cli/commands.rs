@@ -296,24 +296,19 @@ fn simulate(p: &Prepared, root: &Path, req: &SimulateRequest) -> Result<(), Fail
         format!(" plus {}", req.kicks.join(", "))
     };
     let before = |v: f64| {
-        match req
-        .from
-        .as_ref()
-        .and_then(|f| f.nearest(v).map(|n| (f, n.0)))
-    {
-        Some((f, at)) => statusln!(
-            "simulating '{name}' at {v} m/s for {} s from {}'s state at {at} m/s{kicks} (rtol {:e})",
+        let start = match req
+            .from
+            .as_ref()
+            .and_then(|f| f.nearest(v).map(|n| (f, n.0)))
+        {
+            Some((f, at)) => format!("{}'s state at {at} m/s", f.source),
+            None => format!("y(0) = {} mm", req.y0 * 1e3),
+        };
+        statusln!(
+            "simulating '{name}' at {v} m/s for {} s from {start}{kicks} (rtol {:e})",
             req.duration,
-            f.source,
             req.rtol()
-        ),
-        None => statusln!(
-            "simulating '{name}' at {v} m/s for {} s from y(0) = {} mm{kicks} (rtol {:e})",
-            req.duration,
-            req.y0 * 1e3,
-            req.rtol()
-        ),
-    }
+        )
     };
     let runs = api::simulate(p, req, &before, None)?;
     write_all(&out_dir(root, p.plan())?, &files::simulate(name, &runs))?;
