@@ -140,7 +140,7 @@ pub(super) fn analyse_and_track<const N: usize>(
         cancel,
         branches: say,
     } = hooks;
-    let ode = ode_options(opts.rtol, opts.floquet_rtol)?;
+    let ode = ode_options(opts.rtol, opts.floquet_rtol, opts.integrator)?;
     let kalker = model.with_law(CreepLaw::Kalker);
     let kalker_critical_speed_m_s = critical_speeds(
         &LinearSystem::<N>::at_centre(&kalker),

@@ -25,7 +25,7 @@ use crate::continuation::{
     BranchStats, Continuation, ContinuationParams, OrbitPoint, Shooting, SpecialKind,
 };
 use crate::stability::{critical_speeds, Crossing, LinearOptions, LinearSystem};
-use crate::system::ode::{OdeOptions, Tolerances};
+use crate::system::ode::{Method, OdeOptions, Tolerances};
 
 /// Options of the bifurcation analysis (study section `[bifurcation]`).
 #[derive(Clone, Debug, PartialEq)]
@@ -81,6 +81,13 @@ pub struct BifurcationOptions {
     /// takes twice as long, and on a flange's period-doubling cascade it took another path
     /// (docs/performance.md), so it is not the default
     pub chord: bool,
+    /// the Runge–Kutta pair of the shooting flows (study key `[bifurcation] integrator`):
+    /// [`Method::DormandPrince5`] (default, `"dopri5"`) or [`Method::DormandPrince8`]
+    /// (`"dop853"`). The 8th-order pair takes 2–3× less time on smooth fields (the closed-form
+    /// cone, a polynomial table) and is far more accurate at the same rtol; on contact tables
+    /// and profiles, whose Jacobian jumps at nodes, and across a flange's dead band it is
+    /// slower and its Newton iterations can stall at a fold (docs/performance.md)
+    pub integrator: Method,
     /// a flag another computation raises while it has the rayon pool busy: the diagram's
     /// integrations run serially while it is up (the same diagram); default `None`
     pub busy: Option<crate::continuation::PoolBusy>,
@@ -102,6 +109,7 @@ impl BifurcationOptions {
             parallel: true,
             segments: 0,
             chord: false,
+            integrator: Method::DormandPrince5,
             busy: None,
         }
     }
@@ -296,12 +304,13 @@ pub struct BifurcationReport {
 }
 
 /// The integrator's options for cycles at `rtol`, the monodromy matrix at `floquet_rtol`
-/// (`None`: `rtol` too; never below `rtol`).
-fn ode_options(rtol: f64, floquet_rtol: Option<f64>) -> Result<OdeOptions, String> {
+/// (`None`: `rtol` too; never below `rtol`), with the Runge–Kutta pair `method`.
+fn ode_options(rtol: f64, floquet_rtol: Option<f64>, method: Method) -> Result<OdeOptions, String> {
     let tol = Tolerances::new(rtol, rtol * 1e-3).map_err(|e| e.to_string())?;
     let opts = OdeOptions {
         tol,
         monodromy_tol_factor: floquet_rtol.map_or(1.0, |f| (f / rtol).max(1.0)),
+        method,
         ..OdeOptions::default()
     };
     opts.validate().map_err(|e| e.to_string())?;
@@ -371,6 +380,19 @@ pub fn cycle_at<const N: usize>(
     solve_cycle(model, speed, x0, period, rtol, true)
 }
 
+/// [`cycle_at`] with the Runge–Kutta pair `method` (a study's `[bifurcation] integrator`)
+/// instead of the default 5th-order one.
+pub fn cycle_at_with<const N: usize>(
+    model: &Vehicle,
+    speed: f64,
+    x0: [f64; N],
+    period: f64,
+    rtol: f64,
+    method: Method,
+) -> Result<(OrbitPoint<N>, crate::continuation::Floquet, usize), String> {
+    solve_cycle_with(model, speed, x0, period, rtol, true, method)
+}
+
 /// [`cycle_at`] for any cycle: `symmetric` solves $φ_{T/2}(x_0) = −x_0$ (a symmetric cycle,
 /// `period` its whole period), else $φ_T(x_0) = x_0$ (an asymmetric cycle, or one of several
 /// periods: `period` is then the whole of it).
@@ -382,13 +404,33 @@ pub fn solve_cycle<const N: usize>(
     rtol: f64,
     symmetric: bool,
 ) -> Result<(OrbitPoint<N>, crate::continuation::Floquet, usize), String> {
+    solve_cycle_with(
+        model,
+        speed,
+        x0,
+        period,
+        rtol,
+        symmetric,
+        Method::DormandPrince5,
+    )
+}
+
+fn solve_cycle_with<const N: usize>(
+    model: &Vehicle,
+    speed: f64,
+    x0: [f64; N],
+    period: f64,
+    rtol: f64,
+    symmetric: bool,
+    method: Method,
+) -> Result<(OrbitPoint<N>, crate::continuation::Floquet, usize), String> {
     if N != model.states() {
         return Err(format!(
             "a start state of {N} values for a model of {} states",
             model.states()
         ));
     }
-    let ode = ode_options(rtol, None)?;
+    let ode = ode_options(rtol, None, method)?;
     let amplitude = |_: &OrbitPoint<N>, _: &SVector<f64, N>| 0.0;
     let n = model.dofs();
     let mut scale: Vec<f64> = (0..N)

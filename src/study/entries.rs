@@ -10,6 +10,7 @@ use crate::contact::creep::CreepLaw;
 use crate::contact::geometry::Geometry;
 use crate::contact::table::CreepSource;
 use crate::model::{CarBodyParams, FrameParams, Secondary, VehicleSpec};
+use crate::system::ode::Method;
 
 /// A value of the plan as the study writes it.
 #[derive(Clone, Debug, PartialEq)]
@@ -272,6 +273,13 @@ pub fn entries(p: &Plan) -> Vec<Entry> {
         s.text("switch", b.switch.to_string());
         s.put("max_branches", Shown::Count(b.max_branches));
         s.text("corrector", if b.chord { "chord" } else { "newton" });
+        s.text(
+            "integrator",
+            match b.integrator {
+                Method::DormandPrince5 => "dopri5",
+                Method::DormandPrince8 => "dop853",
+            },
+        );
     }
     if let Some(a) = &p.attractors {
         let mut s = Section {

@@ -29,6 +29,7 @@ use crate::model::{
     layouts, Flange, PrimaryVertical, Suspension, Vehicle, VehicleSpec, Wheelset, WheelsetParams,
 };
 use crate::stability::LinearOptions;
+use crate::system::ode::Method;
 pub use attractors::AttractorSettings;
 use schema::{Quantity, StudyFile};
 use units::{parse_quantity, Dimension, UnitProblem};
@@ -480,6 +481,19 @@ fn bifurcation_plan(
                     "bifurcation.corrector",
                     format!("{c:?}"),
                     "must be \"newton\" (a linearisation at every iteration) or \"chord\" (a linearisation kept over the iterations after it)",
+                ))
+            }
+        };
+    }
+    if let Some(m) = &b.integrator {
+        o.integrator = match m.as_str() {
+            "dopri5" => Method::DormandPrince5,
+            "dop853" => Method::DormandPrince8,
+            _ => {
+                return Err(rule(
+                    "bifurcation.integrator",
+                    format!("{m:?}"),
+                    "must be \"dopri5\" (Dormand-Prince 5(4), for contact tables, profiles and flanges) or \"dop853\" (Dormand-Prince 8(5,3), for smooth fields)",
                 ))
             }
         };

@@ -440,6 +440,9 @@ pub struct BifurcationSection {
     /// the cycles' corrector: "newton" (default) or "chord"
     #[serde(default)]
     pub corrector: Option<String>,
+    /// the shooting flows' Runge–Kutta pair: "dopri5" (default) or "dop853"
+    #[serde(default)]
+    pub integrator: Option<String>,
 }
 
 /// `[attractors]`: the search for every attractor over speed.

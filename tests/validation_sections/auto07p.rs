@@ -6,10 +6,10 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use critspeed::bifurcation::{analyse, cycle_at};
+use critspeed::bifurcation::{analyse, cycle_at_with};
 use critspeed::continuation::SpecialKind;
 use critspeed::study;
-use critspeed::system::ode::{integrate_with_peaks, OdeOptions, Tolerances};
+use critspeed::system::ode::{integrate_with_peaks, Method, OdeOptions, Tolerances};
 use nalgebra::SVector;
 
 /// The two cases: (AUTO case folder, critspeed study).
@@ -164,6 +164,9 @@ pub struct Row {
 /// One case compared.
 pub struct Case {
     pub name: &'static str,
+    /// the study's `[bifurcation]` rtol and integrator, at which critspeed's cycles are solved
+    pub rtol: f64,
+    pub integrator: &'static str,
     pub auto_hopf: f64,
     pub hopf: f64,
     /// AUTO's fold: the vertex of the parabola V(A) through its three branch points of lowest
@@ -239,11 +242,13 @@ pub fn compare(case: &'static str, study_file: &str) -> Case {
                 u[2] * 1e-3 * OMS,
                 u[3] * 1e-3 * OMS,
             ];
-            let solve = |rtol: f64| {
+            let solve = |rtol: f64, method: Method| {
                 let (orbit, floquet, _) =
-                    cycle_at(&model, speed, x0, auto_period, rtol).expect("critspeed cycle");
+                    cycle_at_with(&model, speed, x0, auto_period, rtol, method)
+                        .expect("critspeed cycle");
                 let ode = OdeOptions {
                     tol: Tolerances::new(rtol, rtol * 1e-3).expect("tolerances"),
+                    method,
                     ..OdeOptions::default()
                 };
                 let (_, peaks) =
@@ -252,8 +257,9 @@ pub fn compare(case: &'static str, study_file: &str) -> Case {
                 let peaks: SVector<f64, 4> = peaks;
                 (orbit, floquet, peaks[0] * 1e3)
             };
-            let (orbit, floquet, amplitude_mm) = solve(opts.rtol);
-            let (tight, _, tight_amplitude_mm) = solve(1e-12);
+            let (orbit, floquet, amplitude_mm) = solve(opts.rtol, opts.integrator);
+            // the reference: the 5th-order pair at 1e-12, whichever pair the study uses
+            let (tight, _, tight_amplitude_mm) = solve(1e-12, Method::DormandPrince5);
             Row {
                 speed,
                 auto_period,
@@ -270,6 +276,11 @@ pub fn compare(case: &'static str, study_file: &str) -> Case {
         .collect();
     Case {
         name: case,
+        rtol: opts.rtol,
+        integrator: match opts.integrator {
+            Method::DormandPrince5 => "dopri5",
+            Method::DormandPrince8 => "dop853",
+        },
         auto_hopf,
         hopf: report.hopf.map_or(f64::NAN, |h| h.speed_m_s),
         fold,
@@ -279,13 +290,13 @@ pub fn compare(case: &'static str, study_file: &str) -> Case {
 
 pub fn section(s: &mut String) {
     let _ = writeln!(s, "## 8. AUTO-07p on the same equations\n");
-    let _ = writeln!(s, "AUTO-07p 0.9.2 (orthogonal collocation, NTST 40, NCOL 4, EPSL = EPSU = 1e-10) runs the right-hand side `scripts/auto07p/wheelset.f90`, which evaluates the same functions as critspeed for `studies/seed-hunting-cone.toml` (cone, supercritical) and `studies/cubic-fold.toml` (r_R − r0 = 0.15 y + 2000 y³, subcritical with a fold). AUTO's results are stored in `tests/data/auto07p/` (regenerate with `scripts/auto07p-compare`); critspeed solves each AUTO user point's cycle at the same speed from AUTO's start state (`cycle_at`, default rtol 1e-10); the last two columns are both tools' relative errors against critspeed's cycle at rtol 1e-12. Amplitudes: AUTO's is the maximum of its collocation polynomials, critspeed's the peak on its dense output. Multipliers: the largest nontrivial modulus; AUTO prints 5 significant digits.\n");
+    let _ = writeln!(s, "AUTO-07p 0.9.2 (orthogonal collocation, NTST 40, NCOL 4, EPSL = EPSU = 1e-10) runs the right-hand side `scripts/auto07p/wheelset.f90`, which evaluates the same functions as critspeed for `studies/seed-hunting-cone.toml` (cone, supercritical) and `studies/cubic-fold.toml` (r_R − r0 = 0.15 y + 2000 y³, subcritical with a fold). AUTO's results are stored in `tests/data/auto07p/` (regenerate with `scripts/auto07p-compare`); critspeed solves each AUTO user point's cycle at the same speed from AUTO's start state (`cycle_at_with`, at the study's `[bifurcation]` rtol and integrator, named with each case); the last two columns are both tools' relative errors against critspeed's cycle at rtol 1e-12 with the 5th-order pair (`dopri5`), whatever pair the study uses. Amplitudes: AUTO's is the maximum of its collocation polynomials, critspeed's the peak on its dense output. Multipliers: the largest nontrivial modulus; AUTO prints 5 significant digits.\n");
     for (case, file) in CASES {
         let c = compare(case, file);
         let _ = writeln!(
             s,
-            "**{}** (`studies/{file}`): V_H AUTO {:.6} m/s, critspeed {:.6} m/s.",
-            c.name, c.auto_hopf, c.hopf
+            "**{}** (`studies/{file}`, critspeed at rtol {:e} with `{}`): V_H AUTO {:.6} m/s, critspeed {:.6} m/s.",
+            c.name, c.rtol, c.integrator, c.auto_hopf, c.hopf
         );
         if let Some((a, b)) = c.fold {
             let _ = writeln!(s, " Fold: AUTO {a:.4} m/s (vertex of the parabola through its three slowest branch points: AUTO detects the sign change of its fold function but its location does not converge here), critspeed {b:.6} m/s (located).");

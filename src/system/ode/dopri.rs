@@ -11,7 +11,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use super::{Tolerances, VectorField};
+use super::{Method, Tolerances, VectorField};
 
 /// Stage coefficients $a_{ij}$, row $i$ = stage $i + 2$. Row 6 (stage 7) equals $b$: the
 /// method is FSAL, the 7th stage is $f$ at the new point.
@@ -95,6 +95,8 @@ pub(super) trait Carried<const N: usize>: Copy {
     fn identity() -> Self;
     /// $s = y + h\sum_j a_j k_j$, as [`combine`] does for the state.
     fn combine(y: &Self, h: f64, a: &[f64], k: &[Self]) -> Self;
+    /// $s = y + h\sum_{(j, a)} a\,k_j$ over a sparse row of `(stage, coefficient)` pairs.
+    fn combine_sparse(y: &Self, h: f64, row: &[(usize, f64)], k: &[Self]) -> Self;
     /// The scaled error of the value (see [`phi_rms`]); 0 for nothing.
     fn error(e: &Self, y0: &Self, y1: &Self, tol: &Tolerances) -> f64;
     /// The sum of the entries (finite exactly when every entry is, short of overflow).
@@ -115,6 +117,7 @@ impl<const N: usize> Carried<N> for () {
     fn zero() -> Self {}
     fn identity() -> Self {}
     fn combine(_: &Self, _: f64, _: &[f64], _: &[Self]) -> Self {}
+    fn combine_sparse(_: &Self, _: f64, _: &[(usize, f64)], _: &[Self]) -> Self {}
     fn error(_: &Self, _: &Self, _: &Self, _: &Tolerances) -> f64 {
         0.0
     }
@@ -146,6 +149,10 @@ impl<const N: usize> Carried<N> for SMatrix<f64, N, N> {
     #[inline(always)]
     fn combine(y: &Self, h: f64, a: &[f64], k: &[Self]) -> Self {
         combine(y, h, a, k)
+    }
+    #[inline(always)]
+    fn combine_sparse(y: &Self, h: f64, row: &[(usize, f64)], k: &[Self]) -> Self {
+        super::dop853::sparse(y, h, row, k)
     }
     fn error(e: &Self, y0: &Self, y1: &Self, tol: &Tolerances) -> f64 {
         phi_rms(e, y0, y1, tol)
@@ -194,6 +201,14 @@ impl<const N: usize, const CHECKED: bool> Carried<N> for Column<N, CHECKED> {
         }
         Column(s)
     }
+    #[inline(always)]
+    fn combine_sparse(y: &Self, h: f64, row: &[(usize, f64)], k: &[Self]) -> Self {
+        let mut s = y.0;
+        for &(j, a) in row {
+            s.axpy(h * a, &k[j].0, 1.0);
+        }
+        Column(s)
+    }
     fn error(e: &Self, y0: &Self, y1: &Self, tol: &Tolerances) -> f64 {
         if CHECKED {
             phi_rms(&e.0, &y0.0, &y1.0, tol)
@@ -236,7 +251,12 @@ pub(super) struct Point<const N: usize, C> {
 pub(super) struct Trial<const N: usize, C> {
     pub end: Point<N, C>,
     pub err: f64,
-    k: [SVector<f64, N>; 7],
+    /// the 5th-order method's stages; the 8th-order method's partial sums for its continuous
+    /// extension (see `dop853.rs`)
+    pub(super) k: [SVector<f64, N>; 7],
+    /// the pair that took the step (a step landing on a switching surface is always the
+    /// 5th-order pair's, see `events::land_on`)
+    pub(super) method: Method,
 }
 
 /// The method bound to a field: the parameter, whether $\Phi$ rides along, the tolerances, and
@@ -250,6 +270,7 @@ pub(super) struct Rk<'a, const N: usize, F> {
     /// [`OdeOptions::monodromy_tol_factor`](super::OdeOptions::monodromy_tol_factor))
     pub tol_phi: Tolerances,
     pub rhs_evals: usize,
+    pub method: Method,
 }
 
 /// $s = y + h\sum_j a_j k_j$ (at most 7 terms). Blocks of 64 entries or more (Φ of 8 states
@@ -314,7 +335,7 @@ fn combine_n<const R: usize, const CC: usize, const M: usize>(
 }
 
 /// RMS of $e_i / (\mathrm{atol} + \mathrm{rtol}\max(|y_{0,i}|, |y_{1,i}|))$ (HNW I, (4.11)).
-fn scaled_rms<const R: usize, const CC: usize>(
+pub(super) fn scaled_rms<const R: usize, const CC: usize>(
     e: &SMatrix<f64, R, CC>,
     y0: &SMatrix<f64, R, CC>,
     y1: &SMatrix<f64, R, CC>,
@@ -391,7 +412,11 @@ fn phi_rms<const N: usize, const M: usize>(
 impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
     /// The augmented field at $(x, \Phi)$; $J$ is only evaluated when $\Phi$ rides along.
     #[inline(always)]
-    fn eval<C: Carried<N>>(&mut self, x: &SVector<f64, N>, phi: &C) -> (SVector<f64, N>, C) {
+    pub(super) fn eval<C: Carried<N>>(
+        &mut self,
+        x: &SVector<f64, N>,
+        phi: &C,
+    ) -> (SVector<f64, N>, C) {
         self.rhs_evals += 1;
         if self.variational {
             C::field(self.field, x, self.p, phi)
@@ -412,13 +437,57 @@ impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
         }
     }
 
-    /// One step of size `h` from `p0` (6 new evaluations thanks to FSAL). The error is
+    /// One step of size `h` from `p0` by the pair `method` names (6 new evaluations for the
+    /// 5th-order pair thanks to FSAL, 12 for the 8th-order one). The error is
     /// $\max(\|e_x\|, \|e_\Phi\|)$ with the scaled RMS norm of each block (see
     /// [`phi_rms`]): taking the max rather than one RMS over all $N + N^2$ components means
     /// switching the monodromy on never loosens the control of the state (the $N^2$ entries of
     /// $\Phi$ would otherwise dilute it), and $\Phi$ is normwise as accurate as $x$ — which
     /// is what Floquet multipliers accurate to ~1e-9 need.
     pub fn step<C: Carried<N>>(&mut self, p0: &Point<N, C>, h: f64) -> Trial<N, C> {
+        match self.method {
+            Method::DormandPrince5 => self.step5(p0, h),
+            Method::DormandPrince8 => self.step8(p0, h),
+        }
+    }
+
+    /// The continuous extension of the step `trial` from `p0` (the 8th-order method spends
+    /// three evaluations of $f$ on it).
+    pub fn dense<C>(&mut self, p0: &Point<N, C>, trial: &Trial<N, C>) -> Dense<N> {
+        match trial.method {
+            Method::DormandPrince5 => Dense::new(p0, trial),
+            Method::DormandPrince8 => self.dense8(p0, trial),
+        }
+    }
+
+    /// The largest and smallest value of each component over the step (see
+    /// [`Dense::extremes`]). The 8th-order method builds its continuous extension only when
+    /// some component's derivative changes sign between the step's ends (else the extremes
+    /// are the end values): a component with a maximum and a minimum inside one step, and
+    /// the same sign of $f_k$ at both ends, is not seen.
+    pub fn extremes<C>(
+        &mut self,
+        p0: &Point<N, C>,
+        trial: &Trial<N, C>,
+    ) -> (SVector<f64, N>, SVector<f64, N>) {
+        match trial.method {
+            Method::DormandPrince5 => Dense::new(p0, trial).extremes(),
+            Method::DormandPrince8 => {
+                let turns =
+                    p0.f.iter()
+                        .zip(trial.end.f.iter())
+                        .any(|(a, b)| a * b <= 0.0);
+                if turns {
+                    self.dense8(p0, trial).extremes()
+                } else {
+                    (p0.x.sup(&trial.end.x), p0.x.inf(&trial.end.x))
+                }
+            }
+        }
+    }
+
+    /// One Dormand–Prince 5(4) step (see [`Rk::step`]), whatever `method` says.
+    pub(super) fn step5<C: Carried<N>>(&mut self, p0: &Point<N, C>, h: f64) -> Trial<N, C> {
         let mut k = [SVector::<f64, N>::zeros(); 7];
         let mut kp = [C::zero(); 7];
         k[0] = p0.f;
@@ -456,7 +525,12 @@ impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
             f: k[6],
             f_phi: kp[6],
         };
-        Trial { end, err, k }
+        Trial {
+            end,
+            err,
+            k,
+            method: Method::DormandPrince5,
+        }
     }
 
     /// Starting step size, HNW I §II.4 ("Starting step size", the `HINIT` of DOPRI5), on the
@@ -480,7 +554,10 @@ impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
         let h1 = if d12 <= 1e-15 {
             (h0 * 1e-3).max(1e-6)
         } else {
-            (0.01 / d12).powf(0.2)
+            match self.method {
+                Method::DormandPrince5 => (0.01 / d12).powf(0.2),
+                Method::DormandPrince8 => (0.01 / d12).powf(0.125),
+            }
         };
         let h = (100.0 * h0).min(h1).min(h_max);
         // A NaN here (non-finite field) is caught by the first step's error test.
@@ -497,10 +574,15 @@ impl<const N: usize, F: VectorField<N>> Rk<'_, N, F> {
 /// $\theta \in [0, 1]$, with $r_0 = x_0$, $r_1 = x_1 - x_0$, $r_2 = h k_1 - r_1$,
 /// $r_3 = r_1 - h k_7 - r_2$, $r_4 = h\sum_i d_i k_i$. It matches $x_0, x_1, f_0, f_1$
 /// (so it is $C^1$ across steps) and has local error $O(h^5)$.
+///
+/// The 8th-order method's extension ([`Dense::degree7`], HNW I §II.6 and DOP853's `CONTD8`) is
+/// $x = r_0 + \theta(r_1 + \bar\theta(r_2 + \theta(r_3 + \bar\theta(r_4 + \theta(r_5 +
+/// \bar\theta(r_6 + \theta r_7))))))$, $\bar\theta = 1 - \theta$, of local error $O(h^8)$.
 pub(super) struct Dense<const N: usize> {
     t0: f64,
     h: f64,
-    r: [SVector<f64, N>; 5],
+    r: [SVector<f64, N>; 8],
+    degree7: bool,
 }
 
 impl<const N: usize> Dense<N> {
@@ -510,10 +592,22 @@ impl<const N: usize> Dense<N> {
         let r2 = trial.k[0] * h - r1;
         let r3 = r1 - trial.k[6] * h - r2;
         let r4 = combine(&SVector::zeros(), h, &D, &trial.k);
+        let z = SVector::zeros();
         Dense {
             t0: p0.t,
             h,
-            r: [p0.x, r1, r2, r3, r4],
+            r: [p0.x, r1, r2, r3, r4, z, z, z],
+            degree7: false,
+        }
+    }
+
+    /// The 8th-order method's extension from its eight coefficient vectors.
+    pub fn degree7(t0: f64, h: f64, r: [SVector<f64, N>; 8]) -> Self {
+        Dense {
+            t0,
+            h,
+            r,
+            degree7: true,
         }
     }
 
@@ -521,8 +615,49 @@ impl<const N: usize> Dense<N> {
     pub fn eval(&self, t: f64) -> SVector<f64, N> {
         let th = (t - self.t0) / self.h;
         let th1 = 1.0 - th;
-        let [r0, r1, r2, r3, r4] = &self.r;
+        if self.degree7 {
+            let r = &self.r;
+            let inner = (r[5] + (r[6] + r[7] * th) * th1) * th;
+            return r[0] + (r[1] + (r[2] + (r[3] + (r[4] + inner) * th1) * th) * th1) * th;
+        }
+        let [r0, r1, r2, r3, r4, ..] = &self.r;
         r0 + (r1 + (r2 + (r3 + r4 * th1) * th) * th1) * th
+    }
+
+    /// The power-basis coefficients of component `i` of the degree-7 extension, from its
+    /// nested form (inside out: a factor $\theta$ shifts the coefficients up, a factor
+    /// $1 - \theta$ subtracts the shifted ones).
+    fn power7(&self, i: usize) -> [f64; 8] {
+        let mut c = [0.0; 8];
+        c[0] = self.r[7][i];
+        for (n, r) in self.r.iter().enumerate().take(7).rev() {
+            // r_n + θ·P for even n, r_n + (1 − θ)·P for odd n (degree of P: 6 − n)
+            let mut shifted = [0.0; 8];
+            shifted[1..].copy_from_slice(&c[..7]);
+            if n % 2 == 0 {
+                c = shifted;
+            } else {
+                for (cj, sj) in c.iter_mut().zip(shifted) {
+                    *cj -= sj;
+                }
+            }
+            c[0] += r[i];
+        }
+        c
+    }
+
+    /// [`Dense::extremes`] of the degree-7 extension: the derivative (degree 6) sampled at
+    /// eighths of the step, each sign change refined by bisection.
+    fn extremes7(&self) -> (SVector<f64, N>, SVector<f64, N>) {
+        let mut high = SVector::<f64, N>::zeros();
+        let mut low = SVector::<f64, N>::zeros();
+        for i in 0..N {
+            let c = self.power7(i);
+            let x = |t: f64| c.iter().rev().fold(0.0, |acc, &cj| acc * t + cj);
+            let dx = |t: f64| (1..8).rev().fold(0.0, |acc, j| acc * t + j as f64 * c[j]);
+            (high[i], low[i]) = extremes_on(x, dx, 8);
+        }
+        (high, low)
     }
 
     /// The largest and the smallest value of each component over the step, on the continuous
@@ -534,7 +669,10 @@ impl<const N: usize> Dense<N> {
     /// value there is as accurate as the continuous extension itself). Two extrema of one
     /// component within a quarter step (a wiggle far below the step's resolution) are not seen.
     pub fn extremes(&self) -> (SVector<f64, N>, SVector<f64, N>) {
-        let [r0, r1, r2, r3, r4] = &self.r;
+        if self.degree7 {
+            return self.extremes7();
+        }
+        let [r0, r1, r2, r3, r4, ..] = &self.r;
         let mut high = SVector::<f64, N>::zeros();
         let mut low = SVector::<f64, N>::zeros();
         for i in 0..N {
@@ -547,36 +685,48 @@ impl<const N: usize> Dense<N> {
             ];
             let x = |t: f64| c[0] + t * (c[1] + t * (c[2] + t * (c[3] + t * c[4])));
             let dx = |t: f64| c[1] + t * (2.0 * c[2] + t * (3.0 * c[3] + t * 4.0 * c[4]));
-            let (a, b) = (x(0.0), x(1.0));
-            let (mut hi_v, mut lo_v) = (a.max(b), a.min(b));
-            let (mut t0, mut d0) = (0.0, dx(0.0));
-            for q in 1..=4 {
-                let t1 = 0.25 * q as f64;
-                let d1 = dx(t1);
-                if d0 * d1 < 0.0 {
-                    let (mut lo, mut hi, dlo) = (t0, t1, d0);
-                    for _ in 0..60 {
-                        let mid = 0.5 * (lo + hi);
-                        if mid <= lo || mid >= hi {
-                            break;
-                        }
-                        if dx(mid) * dlo > 0.0 {
-                            lo = mid;
-                        } else {
-                            hi = mid;
-                        }
-                    }
-                    let v = x(0.5 * (lo + hi));
-                    hi_v = hi_v.max(v);
-                    lo_v = lo_v.min(v);
-                }
-                (t0, d0) = (t1, d1);
-            }
-            high[i] = hi_v;
-            low[i] = lo_v;
+            (high[i], low[i]) = extremes_on(x, dx, 4);
         }
         (high, low)
     }
+}
+
+/// The largest and the smallest value of the polynomial `x` on $[0, 1]$: its end values and
+/// its values at the sign changes of its derivative `dx`, sampled at `parts` equal pieces and
+/// refined by [`bisect`].
+fn extremes_on(x: impl Fn(f64) -> f64, dx: impl Fn(f64) -> f64, parts: usize) -> (f64, f64) {
+    let (a, b) = (x(0.0), x(1.0));
+    let (mut hi_v, mut lo_v) = (a.max(b), a.min(b));
+    let (mut t0, mut d0) = (0.0, dx(0.0));
+    for q in 1..=parts {
+        let t1 = q as f64 / parts as f64;
+        let d1 = dx(t1);
+        if d0 * d1 < 0.0 {
+            let v = x(bisect(&dx, t0, t1, d0));
+            hi_v = hi_v.max(v);
+            lo_v = lo_v.min(v);
+        }
+        (t0, d0) = (t1, d1);
+    }
+    (hi_v, lo_v)
+}
+
+/// The root of `dx` in `[lo, hi]`, where it changes sign (`dx(lo) = dlo`), by bisection to
+/// round-off.
+fn bisect(dx: &impl Fn(f64) -> f64, lo: f64, hi: f64, dlo: f64) -> f64 {
+    let (mut lo, mut hi) = (lo, hi);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if dx(mid) * dlo > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
 }
 
 /// The PI step-size controller of Hairer & Wanner's DOPRI5 (HNW I §II.4 for the I-part;
@@ -589,6 +739,10 @@ pub(super) struct Controller {
     /// $\ln \max(\mathrm{err}_{n-1}, 10^{-4})$: with logarithms the factor costs one `ln`
     /// and one `exp` instead of two `powf`, which were a quarter of a step on small systems.
     ln_err_old: f64,
+    alpha: f64,
+    beta: f64,
+    fac_min: f64,
+    fac_max: f64,
 }
 
 const SAFETY: f64 = 0.9;
@@ -601,9 +755,19 @@ const FAC_MAX: f64 = 10.0;
 const ERR_OLD_MIN: f64 = 1e-4;
 
 impl Controller {
-    pub fn new() -> Self {
+    /// DOPRI5's controller for the 5th-order method; DOP853's defaults for the 8th-order one
+    /// (no $\beta$ term, $\alpha = 1/8$, factors within $[0.333, 6]$).
+    pub fn new(method: Method) -> Self {
+        let (alpha, beta, fac_min, fac_max) = match method {
+            Method::DormandPrince5 => (ALPHA, BETA, FAC_MIN, FAC_MAX),
+            Method::DormandPrince8 => (0.125, 0.0, 0.333, 6.0),
+        };
         Controller {
             ln_err_old: ERR_OLD_MIN.ln(),
+            alpha,
+            beta,
+            fac_min,
+            fac_max,
         }
     }
 
@@ -611,13 +775,13 @@ impl Controller {
     pub fn accepted(&mut self, err: f64) -> f64 {
         // err = 0 gives ln = -inf, a factor of +inf, which the clamp turns into growth 10.
         let ln_err = err.ln();
-        let fac = SAFETY * (BETA * self.ln_err_old - ALPHA * ln_err).exp();
+        let fac = SAFETY * (self.beta * self.ln_err_old - self.alpha * ln_err).exp();
         self.ln_err_old = ln_err.max(ERR_OLD_MIN.ln());
-        fac.clamp(FAC_MIN, FAC_MAX)
+        fac.clamp(self.fac_min, self.fac_max)
     }
 
     /// Factor for retrying a rejected step (err > 1): the I-part only, never growing.
     pub fn rejected(&self, err: f64) -> f64 {
-        (SAFETY * err.powf(-ALPHA)).max(FAC_MIN)
+        (SAFETY * err.powf(-self.alpha)).max(self.fac_min)
     }
 }

@@ -5,7 +5,7 @@ use std::ops::ControlFlow;
 
 use nalgebra::{SMatrix, SVector};
 
-use super::dopri::{Carried, Column, Controller, Dense, Point, Rk, Trial, FAC_MIN};
+use super::dopri::{Carried, Column, Controller, Point, Rk, Trial, FAC_MIN};
 use super::events::{brent, land_on, Switches};
 use super::{OdeError, OdeOptions, Solution, Stats, StopReason, Tolerances, VectorField};
 
@@ -80,10 +80,11 @@ where
             atol: opts.tol.atol * opts.monodromy_tol_factor,
         },
         rhs_evals: 0,
+        method: opts.method,
     };
     let mut cur = rk.point(0.0, *x0, phi0);
     let mut switches = Switches::new(field, x0);
-    let mut ctrl = Controller::new();
+    let mut ctrl = Controller::new(opts.method);
     let mut stats = Stats::default();
     let mut h = match opts.h_initial {
         Some(h) => h,
@@ -327,8 +328,8 @@ pub fn integrate_with_extremes<const N: usize, F: VectorField<N>>(
         opts: &OdeOptions,
     ) -> Result<(Solution<N>, SVector<f64, N>, SVector<f64, N>), OdeError> {
         let (mut high, mut low) = (*x0, *x0);
-        let run = run(f, p, x0, C::identity(), t_end, opts, |_, start, trial| {
-            let (h, l) = Dense::new(start, trial).extremes();
+        let run = run(f, p, x0, C::identity(), t_end, opts, |rk, start, trial| {
+            let (h, l) = rk.extremes(start, trial);
             high = high.sup(&h);
             low = low.inf(&l);
             ControlFlow::Continue(())
@@ -374,7 +375,7 @@ pub fn integrate_observed<const N: usize, F: VectorField<N>>(
         observer: &mut dyn FnMut(f64, &SVector<f64, N>),
     ) -> Result<Solution<N>, OdeError> {
         let mut next = 0;
-        let run = run(f, p, x0, C::identity(), t_end, opts, |_, start, trial| {
+        let run = run(f, p, x0, C::identity(), t_end, opts, |rk, start, trial| {
             let mut dense = None;
             while let Some(&ts) = samples.get(next).filter(|&&ts| ts <= trial.end.t) {
                 if ts >= trial.end.t {
@@ -384,9 +385,7 @@ pub fn integrate_observed<const N: usize, F: VectorField<N>>(
                 } else {
                     observer(
                         ts,
-                        &dense
-                            .get_or_insert_with(|| Dense::new(start, trial))
-                            .eval(ts),
+                        &dense.get_or_insert_with(|| rk.dense(start, trial)).eval(ts),
                     );
                 }
                 next += 1;
@@ -443,7 +442,7 @@ pub fn integrate_to_section<const N: usize, F: VectorField<N>>(
             if t1 <= min_time || s1.is_nan() || s1 < 0.0 {
                 return ControlFlow::Continue(());
             }
-            let dense = Dense::new(start, trial);
+            let dense = rk.dense(start, trial);
             let (a, sa) = if start.t >= min_time {
                 (start.t, s0)
             } else {
@@ -513,8 +512,8 @@ pub fn integrate_sections<const N: usize, F: VectorField<N>>(
     ) -> Result<Solution<N>, OdeError> {
         let mut s_prev = section(x0);
         let (mut high, mut low) = (*x0, *x0);
-        let run = run(f, p, x0, C::identity(), t_end, opts, |_, start, trial| {
-            let dense = Dense::new(start, trial);
+        let run = run(f, p, x0, C::identity(), t_end, opts, |rk, start, trial| {
+            let dense = rk.dense(start, trial);
             let (h, l) = dense.extremes();
             high = high.sup(&h);
             low = low.inf(&l);

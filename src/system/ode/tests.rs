@@ -25,7 +25,7 @@ pub(super) fn rel_err<const R: usize, const CC: usize>(
 }
 
 /// $e^{at} R(\omega t)$, the exponential of $[[a, -\omega], [\omega, a]]$.
-fn rot_decay(a: f64, w: f64, t: f64) -> Matrix2<f64> {
+pub(super) fn rot_decay(a: f64, w: f64, t: f64) -> Matrix2<f64> {
     let (s, c) = (w * t).sin_cos();
     Matrix2::new(c, -s, s, c) * (a * t).exp()
 }
@@ -394,6 +394,7 @@ fn step_exact_to_degree_5_and_dense_output_to_degree_4() {
         tol: Tolerances::default(),
         tol_phi: Tolerances::default(),
         rhs_evals: 0,
+        method: Method::DormandPrince5,
     };
     let p0 = rk.point(
         0.3,

@@ -73,7 +73,7 @@ fn dead_band_events_located_and_energy_conserved() {
 }
 
 /// $e^{A\tau}$ for $A = [[0, 1], [-k, 0]]$.
-fn oscillator_exp(k: f64, tau: f64) -> Matrix2<f64> {
+pub(super) fn oscillator_exp(k: f64, tau: f64) -> Matrix2<f64> {
     let w = k.sqrt();
     let (s, c) = (w * tau).sin_cos();
     Matrix2::new(c, s / w, -w * s, c)
